@@ -1,0 +1,94 @@
+//! Errors that name the file, the place in it, and what was wrong.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Where in a file a problem was found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Place {
+    /// The file as a whole (missing, unreadable, wrong format).
+    File,
+    /// A 1-based line number (text formats).
+    Line(usize),
+    /// A byte offset from the start of the file.
+    Byte(u64),
+    /// A named data array (or structural array such as `connectivity`).
+    Array(String),
+    /// Anything else, said in words (`piece 2`, `<AppendedData>`).
+    Other(String),
+}
+
+impl fmt::Display for Place {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Place::File => Ok(()),
+            Place::Line(l) => write!(f, "line {l}"),
+            Place::Byte(b) => write!(f, "byte {b}"),
+            Place::Array(a) => write!(f, "array '{a}'"),
+            Place::Other(s) => f.write_str(s),
+        }
+    }
+}
+
+/// A read or write failure.
+#[derive(Debug)]
+pub struct FormatError {
+    pub file: Option<PathBuf>,
+    pub place: Place,
+    pub message: String,
+}
+
+impl FormatError {
+    pub fn new(place: Place, message: impl Into<String>) -> FormatError {
+        FormatError {
+            file: None,
+            place,
+            message: message.into(),
+        }
+    }
+
+    pub fn at_line(line: usize, message: impl Into<String>) -> FormatError {
+        FormatError::new(Place::Line(line), message)
+    }
+
+    pub fn at_byte(byte: u64, message: impl Into<String>) -> FormatError {
+        FormatError::new(Place::Byte(byte), message)
+    }
+
+    pub fn in_array(name: &str, message: impl Into<String>) -> FormatError {
+        FormatError::new(Place::Array(name.to_string()), message)
+    }
+
+    pub fn whole(message: impl Into<String>) -> FormatError {
+        FormatError::new(Place::File, message)
+    }
+
+    /// Names the file, unless a more specific one (a piece of a .pvtu) is already named.
+    pub fn with_file(mut self, path: &Path) -> FormatError {
+        if self.file.is_none() {
+            self.file = Some(path.to_path_buf());
+        }
+        self
+    }
+
+    pub fn io(path: &Path, err: std::io::Error) -> FormatError {
+        FormatError::whole(err.to_string()).with_file(path)
+    }
+}
+
+impl fmt::Display for FormatError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let file = self
+            .file
+            .as_ref()
+            .map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
+        match self.place {
+            Place::File => write!(f, "{file}: {}", self.message),
+            _ => write!(f, "{file}: {}: {}", self.place, self.message),
+        }
+    }
+}
+
+impl std::error::Error for FormatError {}
+
+pub type Result<T> = std::result::Result<T, FormatError>;

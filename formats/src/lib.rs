@@ -1,0 +1,230 @@
+//! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen.
+//!
+//! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
+//! and component names, and written back from it without conversion. Errors name the file and the
+//! place (line, byte offset or array). Every write goes to a temporary file that is renamed into
+//! place only when complete.
+
+pub mod atomic;
+pub mod error;
+pub mod grid;
+pub mod legacy;
+pub mod tetgen;
+pub mod vtu;
+
+pub use error::{FormatError, Place, Result};
+pub use grid::{cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, Grid, ScalarType};
+
+use std::io::Write;
+use std::path::Path;
+
+/// A file format, chosen from the file name and checked against the content.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// VTK XML unstructured grid, `.vtu`.
+    Vtu,
+    /// VTK XML parallel unstructured grid, `.pvtu`, naming `.vtu` piece files.
+    Pvtu,
+    /// Legacy VTK, `.vtk`.
+    Legacy,
+    /// TetGen `.node` + `.ele` (+ `.face`, `.neigh`), named by any of them.
+    TetGen,
+}
+
+impl Format {
+    /// The format a path's extension names.
+    pub fn from_path(path: &Path) -> Result<Format> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "vtu" => Ok(Format::Vtu),
+            "pvtu" => Ok(Format::Pvtu),
+            "vtk" => Ok(Format::Legacy),
+            "node" | "ele" | "face" | "neigh" => Ok(Format::TetGen),
+            "" => Err(FormatError::whole(
+                "no file extension; expected .vtu, .pvtu, .vtk, .node or .ele",
+            )
+            .with_file(path)),
+            other => Err(FormatError::whole(format!(
+                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node or .ele"
+            ))
+            .with_file(path)),
+        }
+    }
+
+    /// Parses a format name as given on the command line (`vtu`, `pvtu`, `vtk`, `tetgen`).
+    pub fn from_name(name: &str) -> Option<Format> {
+        match name.to_ascii_lowercase().as_str() {
+            "vtu" => Some(Format::Vtu),
+            "pvtu" => Some(Format::Pvtu),
+            "vtk" | "legacy" => Some(Format::Legacy),
+            "tetgen" | "node" | "ele" => Some(Format::TetGen),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Vtu => "VTU",
+            Format::Pvtu => "PVTU",
+            Format::Legacy => "legacy VTK",
+            Format::TetGen => "TetGen",
+        }
+    }
+}
+
+/// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
+/// `type="PUnstructuredGrid"` (PVTU), or `# vtk DataFile` (legacy). TetGen files have no magic.
+pub fn sniff(bytes: &[u8]) -> Option<Format> {
+    let head = &bytes[..bytes.len().min(4096)];
+    let text = String::from_utf8_lossy(head);
+    let trimmed = text.trim_start_matches('\u{feff}').trim_start();
+    if trimmed.starts_with("# vtk DataFile") {
+        return Some(Format::Legacy);
+    }
+    if trimmed.starts_with('<') {
+        if text.contains("PUnstructuredGrid") {
+            return Some(Format::Pvtu);
+        }
+        if text.contains("UnstructuredGrid") {
+            return Some(Format::Vtu);
+        }
+    }
+    None
+}
+
+/// How to encode the output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Encoding {
+    /// VTU: all arrays raw in one `<AppendedData encoding="raw">` block (what ParaView writes).
+    /// Legacy: binary (big endian).
+    #[default]
+    Appended,
+    /// VTU: each array inline, base64. Legacy: binary (big endian).
+    Binary,
+    /// Text: VTU `format="ascii"`, legacy `ASCII`.
+    Ascii,
+}
+
+/// Compression of VTU binary blocks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Compression {
+    #[default]
+    None,
+    Zlib,
+    Lz4,
+    Lzma,
+}
+
+/// Legacy VTK file version to write.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LegacyVersion {
+    /// `CELLS n size` with counts inline; read by every VTK.
+    V42,
+    /// `OFFSETS`/`CONNECTIVITY` (VTK 9 and later); what VTK 9 writes by default.
+    #[default]
+    V51,
+}
+
+/// Options for writers; each writer uses what applies to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WriteOptions {
+    pub encoding: Encoding,
+    pub compression: Compression,
+    pub legacy_version: LegacyVersion,
+}
+
+fn read_file(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(|e| FormatError::io(path, e))
+}
+
+/// Reads a mesh, choosing the reader by extension and checking the content agrees.
+pub fn read(path: &Path) -> Result<Grid> {
+    let format = Format::from_path(path)?;
+    let grid = match format {
+        Format::TetGen => tetgen::read(path)?,
+        Format::Pvtu => {
+            let bytes = read_file(path)?;
+            check_sniff(path, format, &bytes)?;
+            vtu::pvtu::read(path, &bytes)?
+        }
+        Format::Vtu | Format::Legacy => {
+            let bytes = read_file(path)?;
+            check_sniff(path, format, &bytes)?;
+            read_bytes(&bytes, format).map_err(|e| e.with_file(path))?
+        }
+    };
+    grid.validate()
+        .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")).with_file(path))?;
+    Ok(grid)
+}
+
+fn check_sniff(path: &Path, format: Format, bytes: &[u8]) -> Result<()> {
+    match sniff(bytes) {
+        Some(found) if found == format => Ok(()),
+        Some(found) => Err(FormatError::whole(format!(
+            "the extension says {} but the content is {}",
+            format.name(),
+            found.name()
+        ))
+        .with_file(path)),
+        None => Err(FormatError::at_byte(
+            0,
+            format!(
+                "the extension says {} but the content does not start like one",
+                format.name()
+            ),
+        )
+        .with_file(path)),
+    }
+}
+
+/// Reads a single-file format from memory (stdin, say). `format` `None` sniffs the content.
+/// TetGen and PVTU need sibling files and cannot be read this way.
+pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
+    let grid = match format {
+        Format::Vtu => vtu::read(bytes)?,
+        Format::Legacy => legacy::read(bytes)?,
+        Format::Pvtu | Format::TetGen => {
+            return Err(FormatError::whole(format!(
+                "{} needs files beside it and cannot be read from a stream",
+                format.name()
+            )))
+        }
+    };
+    grid.validate()
+        .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")))?;
+    Ok(grid)
+}
+
+/// Writes a mesh atomically, choosing the writer by extension. TetGen writes `.node` and `.ele`
+/// beside each other (both or neither).
+pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
+    let format = Format::from_path(path)?;
+    grid.validate().map_err(|m| {
+        FormatError::whole(format!("refusing to write an invalid mesh: {m}")).with_file(path)
+    })?;
+    match format {
+        Format::TetGen => tetgen::write(path, grid),
+        Format::Pvtu => vtu::pvtu::write(path, std::slice::from_ref(grid), opts),
+        Format::Vtu | Format::Legacy => {
+            let mut f = atomic::AtomicFile::create(path).map_err(|e| FormatError::io(path, e))?;
+            write_to(&mut f, format, grid, opts).map_err(|e| e.with_file(path))?;
+            f.commit().map_err(|e| FormatError::io(path, e))
+        }
+    }
+}
+
+/// Writes a single-file format to a stream (stdout, say).
+pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOptions) -> Result<()> {
+    match format {
+        Format::Vtu => vtu::write(w, grid, opts),
+        Format::Legacy => legacy::write(w, grid, opts),
+        Format::Pvtu | Format::TetGen => Err(FormatError::whole(format!(
+            "{} writes several files and cannot be written to a stream",
+            format.name()
+        ))),
+    }
+}

@@ -1,0 +1,1 @@
+//! Visibility ordering of tets for a viewpoint: centroid (approximate), MPVO and K-D exact.
