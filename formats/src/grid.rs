@@ -344,11 +344,7 @@ impl DataArray {
 
     /// Number of tuples.
     pub fn tuples(&self) -> usize {
-        if self.components == 0 {
-            0
-        } else {
-            self.data.len() / self.components
-        }
+        self.data.len().checked_div(self.components).unwrap_or(0)
     }
 
     /// Same name, type, components, component names and bit-identical values.
@@ -746,7 +742,8 @@ impl Grid {
         (b[0] <= b[1]).then_some(b)
     }
 
-    /// Checks the structure: offsets start at 0, never decrease and end at the connectivity length;
+    /// Checks the structure: every coordinate is finite (NaN or infinite points make every later
+    /// stage meaningless, so they are refused at the door); offsets start at 0, never decrease and end at the connectivity length;
     /// every cell type is known and has its fixed point count; every point id is in range; every
     /// point (cell) data array has one tuple per point (cell); points have 3 components.
     /// The message names the array or cell that is wrong.
@@ -764,6 +761,14 @@ impl Grid {
             return Err(format!(
                 "Points has {} values, not a multiple of 3",
                 self.points.data.len()
+            ));
+        }
+        if let Some(i) =
+            (0..self.num_points()).find(|&i| self.point(i).iter().any(|x| !x.is_finite()))
+        {
+            return Err(format!(
+                "point {i} has a non-finite coordinate {:?}",
+                self.point(i)
             ));
         }
         let np = self.num_points() as i64;
