@@ -22,9 +22,9 @@ impl Aabb {
     }
 
     pub fn grow(&mut self, p: &[f64; 3]) {
-        for k in 0..3 {
-            self.min[k] = self.min[k].min(p[k]);
-            self.max[k] = self.max[k].max(p[k]);
+        for (k, &x) in p.iter().enumerate() {
+            self.min[k] = self.min[k].min(x);
+            self.max[k] = self.max[k].max(x);
         }
     }
 
