@@ -1,7 +1,15 @@
 //! Command-line interface: argument parsing and one thin function per subcommand.
 
+mod bench;
+pub mod camera_args;
+mod check_order;
 mod convert;
 mod info;
+mod partition;
+mod probe;
+mod render;
+mod sort;
+mod tradeoff;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -23,6 +31,20 @@ pub enum Command {
     Info(info::InfoArgs),
     /// Convert between VTU, PVTU, legacy VTK and TetGen, optionally tetrahedralizing.
     Convert(convert::ConvertArgs),
+    /// Split a tet mesh with a K-D tree (exact, conforming) and write the split mesh and the tree.
+    Partition(partition::PartitionArgs),
+    /// Order the tets of a mesh for a camera (centroid, mpvo or the exact kd sort).
+    Sort(sort::SortArgs),
+    /// Count ray-order violations of a visibility order by casting rays through pixel centres.
+    CheckOrder(check_order::CheckOrderArgs),
+    /// Render a tet mesh with projected tetrahedra or the ray-cast reference.
+    Render(render::RenderArgs),
+    /// Values of every array at given points (cell location with the O(N) grid).
+    Probe(probe::ProbeArgs),
+    /// Render one view with every sort x integration mode and compare time against error.
+    Tradeoff(tradeoff::TradeoffArgs),
+    /// Benchmarks on generated meshes (I/O, partition, sort, render).
+    Bench(bench::BenchArgs),
 }
 
 /// Runs the command line; errors go to stderr with a non-zero exit code.
@@ -31,6 +53,13 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
         Command::Convert(a) => convert::run(&a),
+        Command::Partition(a) => partition::run(&a),
+        Command::Sort(a) => sort::run(&a),
+        Command::CheckOrder(a) => check_order::run(&a),
+        Command::Render(a) => render::run(&a),
+        Command::Probe(a) => probe::run(&a),
+        Command::Tradeoff(a) => tradeoff::run(&a),
+        Command::Bench(a) => bench::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,1 @@
+//! Camera options shared by every command that takes a view (explicit, ParaView-style, .pvcc).

@@ -1,0 +1,1 @@
+//! Rendering: transfer functions, ray integration, projected tetrahedra and the ray-cast reference.
