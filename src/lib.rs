@@ -13,6 +13,7 @@ pub mod locate;
 pub mod mesh;
 pub mod partition;
 pub mod render;
+pub mod scene;
 pub mod sort;
 
 pub use formats;

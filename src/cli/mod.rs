@@ -3,6 +3,7 @@
 mod bench;
 pub mod camera_args;
 mod check_order;
+mod classify;
 mod convert;
 mod info;
 mod partition;
@@ -43,6 +44,8 @@ pub enum Command {
     Probe(probe::ProbeArgs),
     /// Render one view with every sort x integration mode and compare time against error.
     Tradeoff(tradeoff::TradeoffArgs),
+    /// Write each tet's region code (which scene bodies it touches) as cell data.
+    Classify(classify::ClassifyArgs),
     /// Benchmarks on generated meshes (I/O, partition, sort, render).
     Bench(bench::BenchArgs),
 }
@@ -59,6 +62,7 @@ pub fn main() -> ExitCode {
         Command::Render(a) => render::run(&a),
         Command::Probe(a) => probe::run(&a),
         Command::Tradeoff(a) => tradeoff::run(&a),
+        Command::Classify(a) => classify::run(&a),
         Command::Bench(a) => bench::run(&a),
     };
     match result {

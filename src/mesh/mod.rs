@@ -80,4 +80,5 @@ impl TetMesh {
     }
 }
 
+pub mod generate;
 pub mod tetrahedralize;

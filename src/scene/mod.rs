@@ -1,0 +1,1 @@
+//! Scenes: cutting bodies and per-region transfer functions (seed 003), region codes and their merging.
