@@ -1,1 +1,406 @@
 //! Visibility ordering of tets for a viewpoint: centroid (approximate), MPVO and K-D exact.
+//!
+//! [`Sorter::new`] builds the view-independent parts once (face adjacency, leaves, boundary
+//! faces of non-convex leaves); [`Sorter::order`] is the per-frame call the renderer makes.
+
+pub mod adjacency;
+pub mod centroid;
+pub mod check;
+pub mod nonconvex;
+pub mod peel;
+pub mod side;
+
+use anyhow::{bail, Result};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+use std::time::Instant;
+
+use crate::camera::Camera;
+use crate::mesh::TetMesh;
+use crate::partition::KdTree;
+use adjacency::{sorted_face, Adjacency, NONE};
+
+/// How to order the tets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// VTK's vtkCellCenterDepthSort: tet centroids sorted by depth (approximate).
+    Centroid,
+    /// Face adjacency only, the whole mesh as one leaf (exact for convex acyclic meshes).
+    Mpvo,
+    /// The paper: per-leaf layer peeling plus the dependencies of non-convex leaves, leaves in
+    /// the K-D tree's order for the eye.
+    Kd,
+}
+
+/// Drawing order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Direction {
+    BackToFront,
+    FrontToBack,
+}
+
+/// Counts that describe one sort.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SortStats {
+    pub method: Option<Method>,
+    pub tets: usize,
+    pub leaves: usize,
+    /// Most layers of any leaf (leaves peel in parallel, so this is the critical path).
+    pub layers: u32,
+    /// Layers summed over leaves.
+    pub layers_total: u64,
+    /// Face constraints used (shared faces not seen edge-on).
+    pub face_constraints: usize,
+    /// Extra constraints between boundary faces of non-convex leaves.
+    pub extra_constraints: usize,
+    pub nonconvex_leaves: usize,
+    /// Visibility cycles (strongly connected components) broken.
+    pub cycles: usize,
+    pub cycle_tets: usize,
+    pub broken_constraints: usize,
+    pub seconds: f64,
+}
+
+/// A visibility order: `order[k]` is the tet drawn `k`-th; `layer[t]` and `leaf[t]` per tet
+/// (layers count in the drawing direction within each leaf; 0 for `centroid`).
+#[derive(Clone, Debug, Default)]
+pub struct Order {
+    pub order: Vec<u32>,
+    pub layer: Vec<u32>,
+    pub leaf: Vec<u32>,
+    pub stats: SortStats,
+}
+
+impl Order {
+    /// `rank[t]`: position of tet `t` in the drawing order (the `visibility_order` cell array).
+    pub fn ranks(&self) -> Vec<u32> {
+        let mut r = vec![0u32; self.order.len()];
+        for (k, &t) in self.order.iter().enumerate() {
+            r[t as usize] = k as u32;
+        }
+        r
+    }
+}
+
+/// Everything about a mesh that does not depend on the view, built once.
+pub struct Sorter<'m> {
+    mesh: &'m TetMesh,
+    adj: Adjacency,
+    tree: KdTree,
+    leaf_of: Vec<u32>,
+    leaf_tets: Vec<Vec<u32>>,
+    /// Bit `i`: the neighbour across face `i` exists and lies in the same leaf.
+    same_leaf: Vec<u8>,
+    /// Boundary faces of each non-convex leaf (`None` for convex leaves).
+    leaf_boundary: Vec<Option<nonconvex::LeafBoundary>>,
+    centroids: Vec<[f64; 3]>,
+}
+
+impl<'m> Sorter<'m> {
+    /// Builds adjacency (in parallel), assigns tets to the tree's leaves (the `leaf_id` cell array
+    /// when it is valid, else by descending the tree with each tet's centroid), and finds the
+    /// boundary faces of the leaves that are not convex. Without a tree there is one leaf.
+    pub fn new(mesh: &'m TetMesh, tree: Option<&KdTree>) -> Result<Sorter<'m>> {
+        let n = mesh.tets.len();
+        if n >= u32::MAX as usize / 4 {
+            bail!("{n} tets: too many for 32-bit tet ids");
+        }
+        let np = mesh.points.len();
+        if let Some((t, _)) = mesh
+            .tets
+            .iter()
+            .enumerate()
+            .find(|(_, tet)| tet.iter().any(|&v| v as usize >= np))
+        {
+            bail!("tet {t} refers to a point id beyond the {np} points");
+        }
+        let adj = Adjacency::build(&mesh.points, &mesh.tets);
+        let centroids: Vec<[f64; 3]> = mesh
+            .tets
+            .par_iter()
+            .map(|t| {
+                let p = t.map(|v| mesh.points[v as usize]);
+                [0, 1, 2].map(|k| 0.25 * (p[0][k] + p[1][k] + p[2][k] + p[3][k]))
+            })
+            .collect();
+        let tree = match tree {
+            Some(t) => t.clone(),
+            None => KdTree::single_leaf(mesh.bounds(), n as u64),
+        };
+        let nleaves = tree.num_leaves().max(1);
+        let leaf_of = assign_leaves(mesh, &tree, &centroids);
+        let mut leaf_tets = vec![Vec::new(); nleaves];
+        for (t, &l) in leaf_of.iter().enumerate() {
+            leaf_tets[l as usize].push(t as u32);
+        }
+        let same_leaf: Vec<u8> = (0..n)
+            .into_par_iter()
+            .map(|t| {
+                let mut bits = 0u8;
+                for i in 0..4 {
+                    let m = adj.neighbors[t][i];
+                    if m != NONE && leaf_of[m as usize] == leaf_of[t] {
+                        bits |= 1 << i;
+                    }
+                }
+                bits
+            })
+            .collect();
+        let leaf_boundary = leaf_tets
+            .par_iter()
+            .map(|tets| nonconvex::LeafBoundary::build(mesh, &adj, &same_leaf, tets))
+            .collect();
+        Ok(Sorter {
+            mesh,
+            adj,
+            tree,
+            leaf_of,
+            leaf_tets,
+            same_leaf,
+            leaf_boundary,
+            centroids,
+        })
+    }
+
+    pub fn num_leaves(&self) -> usize {
+        self.leaf_tets.len()
+    }
+
+    pub fn adjacency(&self) -> &Adjacency {
+        &self.adj
+    }
+
+    pub fn tree(&self) -> &KdTree {
+        &self.tree
+    }
+
+    /// Leaf of each tet.
+    pub fn leaf_of(&self) -> &[u32] {
+        &self.leaf_of
+    }
+
+    /// Number of leaves whose tets do not form a convex region.
+    pub fn nonconvex_leaves(&self) -> usize {
+        self.leaf_boundary.iter().filter(|b| b.is_some()).count()
+    }
+
+    /// The visibility order for one view.
+    pub fn order(&self, cam: &Camera, method: Method, dir: Direction) -> Order {
+        let start = Instant::now();
+        let mut out = match method {
+            Method::Centroid => centroid::order(&self.centroids, cam, dir),
+            Method::Mpvo => self.peel_order(cam, dir, false),
+            Method::Kd => self.peel_order(cam, dir, true),
+        };
+        out.stats.method = Some(method);
+        out.stats.tets = self.mesh.tets.len();
+        out.stats.seconds = start.elapsed().as_secs_f64();
+        out
+    }
+
+    fn peel_order(&self, cam: &Camera, dir: Direction, kd: bool) -> Order {
+        let viewpoint = cam.viewpoint();
+        let view = &viewpoint;
+        let mesh = self.mesh;
+        let n = mesh.tets.len();
+        let ftb = dir == Direction::FrontToBack;
+        let nbr = &self.adj.neighbors;
+        let side = &self.adj.positive_side;
+        // Per tet: which faces lead to a successor (post) and how many predecessors it has.
+        let (post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|t| {
+                let tet = &mesh.tets[t];
+                let mask = if kd {
+                    self.same_leaf[t]
+                } else {
+                    nbr[t]
+                        .iter()
+                        .enumerate()
+                        .fold(0u8, |m, (i, &x)| m | (((x != NONE) as u8) << i))
+                };
+                let (mut post, mut pre) = (0u8, 0u32);
+                let mut bits = mask;
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let f = sorted_face(tet, i);
+                    let s = side::eye_side(
+                        view,
+                        &mesh.points[f[0] as usize],
+                        &mesh.points[f[1] as usize],
+                        &mesh.points[f[2] as usize],
+                    );
+                    if s == 0 {
+                        continue;
+                    }
+                    // The eye on this tet's side of the face: this tet is in front.
+                    let in_front = (s > 0) == (side[t] >> i & 1 == 1);
+                    if in_front == ftb {
+                        post |= 1 << i;
+                    } else {
+                        pre += 1;
+                    }
+                }
+                (post, AtomicU32::new(pre))
+            })
+            .unzip();
+        let face_constraints = post.par_iter().map(|b| b.count_ones() as usize).sum();
+        let leaves: Vec<Vec<u32>> = if kd {
+            self.leaf_tets.clone()
+        } else {
+            vec![(0..n as u32).collect()]
+        };
+        let leaf_of: Vec<u32> = if kd { self.leaf_of.clone() } else { vec![0; n] };
+        // Dependencies adjacency misses: boundary faces of non-convex leaves overlapping on screen.
+        let mut extra: Vec<(u32, u32)> = if kd {
+            self.leaf_boundary
+                .par_iter()
+                .filter_map(|b| b.as_ref())
+                .flat_map_iter(|b| b.constraints(mesh, cam, ftb))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        extra.par_sort_unstable();
+        extra.dedup();
+        let (extra_off, extra_to) = if extra.is_empty() {
+            (Vec::new(), Vec::new())
+        } else {
+            let mut off = vec![0u32; n + 1];
+            for &(a, b) in &extra {
+                off[a as usize + 1] += 1;
+                indeg[b as usize].fetch_add(1, Relaxed);
+            }
+            for i in 0..n {
+                off[i + 1] += off[i];
+            }
+            (off, extra.iter().map(|e| e.1).collect::<Vec<u32>>())
+        };
+        let layer: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(peel::UNSET)).collect();
+        let g = peel::Graph {
+            neighbors: nbr,
+            post: &post,
+            extra_off: &extra_off,
+            extra_to: &extra_to,
+        };
+        let results: Vec<peel::PeelResult> = leaves
+            .par_iter()
+            .map(|tets| peel::peel(&g, tets, &indeg, &layer))
+            .collect();
+        let layer: Vec<u32> = layer.into_iter().map(|a| a.into_inner()).collect();
+        let mut leaf_order: Vec<u32> = if kd {
+            self.tree.leaf_order_front_to_back(view)
+        } else {
+            vec![0]
+        };
+        // A tree that does not list every leaf would drop tets: append any missing leaf.
+        let mut listed = vec![false; leaves.len()];
+        leaf_order.retain(|&l| {
+            (l as usize) < leaves.len() && !std::mem::replace(&mut listed[l as usize], true)
+        });
+        for (l, seen) in listed.iter().enumerate() {
+            if !seen {
+                leaf_order.push(l as u32);
+            }
+        }
+        if !ftb {
+            leaf_order.reverse();
+        }
+        // Within a leaf: by layer, then by tet id (deterministic), by counting sort.
+        let per_leaf: Vec<Vec<u32>> = leaf_order
+            .par_iter()
+            .map(|&l| {
+                let tets = &leaves[l as usize];
+                let nl = results[l as usize].layers as usize;
+                let mut start = vec![0usize; nl + 1];
+                for &t in tets {
+                    start[layer[t as usize] as usize + 1] += 1;
+                }
+                for i in 0..nl {
+                    start[i + 1] += start[i];
+                }
+                let mut out = vec![0u32; tets.len()];
+                for &t in tets {
+                    let s = &mut start[layer[t as usize] as usize];
+                    out[*s] = t;
+                    *s += 1;
+                }
+                out
+            })
+            .collect();
+        let mut order = Vec::with_capacity(n);
+        for v in per_leaf {
+            order.extend_from_slice(&v);
+        }
+        let mut stats = SortStats {
+            leaves: leaves.len(),
+            face_constraints,
+            extra_constraints: extra.len(),
+            nonconvex_leaves: if kd { self.nonconvex_leaves() } else { 0 },
+            ..Default::default()
+        };
+        for r in &results {
+            stats.layers = stats.layers.max(r.layers);
+            stats.layers_total += r.layers as u64;
+            stats.cycles += r.cycles;
+            stats.cycle_tets += r.cycle_tets;
+            stats.broken_constraints += r.broken_constraints;
+        }
+        Order {
+            order,
+            layer,
+            leaf: leaf_of,
+            stats,
+        }
+    }
+}
+
+/// Leaf of each tet: the mesh's `leaf_id` cell array when it names valid leaves, otherwise the
+/// leaf whose box holds the tet's centroid (descending the tree; ties go left, as the tree's
+/// convention puts tets with every vertex at the plane's coordinate on the left).
+fn assign_leaves(mesh: &TetMesh, tree: &KdTree, centroids: &[[f64; 3]]) -> Vec<u32> {
+    let n = mesh.tets.len();
+    let nleaves = tree.num_leaves();
+    if nleaves <= 1 {
+        return vec![0; n];
+    }
+    if let Some(a) = mesh.cell_data.get("leaf_id") {
+        if a.components == 1 && a.data.len() == n {
+            let ids: Vec<f64> = a.data.to_f64_vec();
+            if ids
+                .iter()
+                .all(|&x| x >= 0.0 && x < nleaves as f64 && x.fract() == 0.0)
+            {
+                return ids.iter().map(|&x| x as u32).collect();
+            }
+        }
+    }
+    centroids
+        .par_iter()
+        .map(|c| {
+            let mut i = 0usize;
+            for _ in 0..=tree.nodes.len() {
+                let Some(node) = tree.nodes.get(i) else {
+                    break;
+                };
+                match (node.split, node.leaf_id) {
+                    (Some(s), _) => {
+                        i = if c[s.axis as usize] <= s.position {
+                            s.left as usize
+                        } else {
+                            s.right as usize
+                        };
+                    }
+                    (None, Some(l)) => return l.min(nleaves as u32 - 1),
+                    (None, None) => break,
+                }
+            }
+            0
+        })
+        .collect()
+}
