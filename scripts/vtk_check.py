@@ -11,8 +11,9 @@ type (VTK XML names: Int8 .. Float64, String), components, component names, tupl
   sum     for integer arrays the exact sum, as a decimal string (no overflow, no rounding);
   fsum, fsum2  float64 sum and sum of squares of all values (non-finite values are skipped and
           counted in `nonfinite`), for a tolerance comparison where bits may legitimately differ.
---volume adds `volume`: the sum of the volumes vtkCellSizeFilter gives for 3-D cells, and
-`volume_cells`, how many 3-D cells it summed.
+--volume adds `volume`: the sum of the signed volumes vtkCellSizeFilter gives for 3-D cells (VTK's
+own parametric wedge counts as negative), `abs_volume`, the sum of their absolute values,
+`volume_cells`, how many 3-D cells it summed, and `min_cell_volume`.
 Exit status 2 with a message on stderr when VTK cannot read the file.
 """
 import json
@@ -189,6 +190,7 @@ def main():
             if grid.GetCell(first).GetCellDimension() == 3:
                 solid |= ct == t
         out["volume"] = jfloat(vols[solid].sum()) if solid.any() else 0.0
+        out["abs_volume"] = jfloat(np.abs(vols[solid]).sum()) if solid.any() else 0.0
         out["volume_cells"] = int(solid.sum())
         out["min_cell_volume"] = jfloat(vols[solid].min()) if solid.any() else None
 
