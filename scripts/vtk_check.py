@@ -1,7 +1,11 @@
 #!/usr/bin/python3
 """Reads a mesh with VTK 9.1 and prints, as JSON, what Rust tests compare tetkit's reading against.
 
-Usage: vtk_check.py FILE [--volume]
+Usage: vtk_check.py FILE... [--volume]
+
+With one FILE it prints one JSON object; with several, a JSON list of them (one VTK start-up for
+many files). A file VTK cannot read gives {"file": ..., "error": "..."} in a list, and exit
+status 2 alone.
 
 FILE is .vtu, .pvtu or legacy .vtk. The JSON holds counts, cell type counts, bounds, and for the
 points, the cell arrays (types, offsets, connectivity) and every point/cell/field array: its name,
@@ -37,9 +41,12 @@ NUMPY_TYPES = {
 }
 
 
+class CheckError(Exception):
+    pass
+
+
 def fail(msg):
-    sys.stderr.write("vtk_check.py: %s\n" % msg)
-    sys.exit(2)
+    raise CheckError(msg)
 
 
 def jfloat(x):
@@ -115,6 +122,7 @@ def read(path):
         r.ReadAllFieldsOn()
     else:
         fail("%s: not .vtu, .pvtu or .vtk" % path)
+    vtk.vtkLogger.SetStderrVerbosity(vtk.vtkLogger.VERBOSITY_OFF)
     errors = vtk.vtkStringOutputWindow()
     vtk.vtkOutputWindow.SetInstance(errors)
     r.SetFileName(path)
@@ -130,13 +138,7 @@ def read(path):
     return grid
 
 
-def main():
-    args = sys.argv[1:]
-    volume = "--volume" in args
-    files = [a for a in args if not a.startswith("--")]
-    if len(files) != 1:
-        fail("usage: vtk_check.py FILE [--volume]")
-    path = files[0]
+def check(path, volume):
     grid = read(path)
     n_points = grid.GetNumberOfPoints()
     n_cells = grid.GetNumberOfCells()
@@ -193,7 +195,29 @@ def main():
         out["abs_volume"] = jfloat(np.abs(vols[solid]).sum()) if solid.any() else 0.0
         out["volume_cells"] = int(solid.sum())
         out["min_cell_volume"] = jfloat(vols[solid].min()) if solid.any() else None
+    return out
 
+
+def main():
+    args = sys.argv[1:]
+    volume = "--volume" in args
+    files = [a for a in args if not a.startswith("--")]
+    if not files:
+        sys.stderr.write("usage: vtk_check.py FILE... [--volume]\n")
+        sys.exit(2)
+    if len(files) == 1:
+        try:
+            out = check(files[0], volume)
+        except CheckError as e:
+            sys.stderr.write("vtk_check.py: %s\n" % e)
+            sys.exit(2)
+    else:
+        out = []
+        for path in files:
+            try:
+                out.append(check(path, volume))
+            except CheckError as e:
+                out.append({"file": path, "error": str(e)})
     json.dump(out, sys.stdout, indent=1, allow_nan=False)
     sys.stdout.write("\n")
 

@@ -205,7 +205,17 @@ pub fn split_polytope(
     for f in faces {
         fan_from_min(f, &mut tris);
     }
-    let v0 = faces
+    split_tris(&tris, pos, round)
+}
+
+/// Fills a closed surface given as triangles (fans from each face's smallest id): pulling first,
+/// then a centre point.
+fn split_tris(
+    tris: &[[i64; 3]],
+    pos: &dyn Fn(i64) -> [f64; 3],
+    round: &dyn Fn([f64; 3]) -> [f64; 3],
+) -> Result<Split, SplitError> {
+    let v0 = tris
         .iter()
         .flatten()
         .copied()
@@ -226,7 +236,7 @@ pub fn split_polytope(
         }
     }
     // Centre point: the mean of the distinct vertices.
-    let mut verts: Vec<i64> = faces.iter().flatten().copied().collect();
+    let mut verts: Vec<i64> = tris.iter().flatten().copied().collect();
     verts.sort_unstable();
     verts.dedup();
     let mut c = [0.0f64; 3];
@@ -247,18 +257,25 @@ pub fn split_polytope(
     })
 }
 
-/// Splits a cell whose faces are given as local-index tables.
+/// Splits a cell whose faces are given as local-index tables (at most 8 points per face and 32
+/// triangles in all, which every linear VTK cell meets); no allocation but the result's.
 pub fn split_table(
     ids: &[i64],
     faces: &[&[usize]],
     pos: &dyn Fn(i64) -> [f64; 3],
     round: &dyn Fn([f64; 3]) -> [f64; 3],
 ) -> Result<Split, SplitError> {
-    let faces: Vec<Vec<i64>> = faces
-        .iter()
-        .map(|f| f.iter().map(|&l| ids[l]).collect())
-        .collect();
-    split_polytope(&faces, pos, round)
+    let mut tris = [[0i64; 3]; 32];
+    let mut n = 0;
+    for f in faces {
+        let k = f.len();
+        let m = (0..k).min_by_key(|&j| ids[f[j]]).unwrap_or(0);
+        for j in 1..k.saturating_sub(1) {
+            tris[n] = [ids[f[m]], ids[f[(m + j) % k]], ids[f[(m + j + 1) % k]]];
+            n += 1;
+        }
+    }
+    split_tris(&tris[..n], pos, round)
 }
 
 /// A quadratic tetra's 8 linear children (no new point); tries the octahedron's diagonals from
