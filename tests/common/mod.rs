@@ -274,6 +274,35 @@ pub fn vtk_check_result(path: &Path, volume: bool) -> Result<Value, String> {
     serde_json::from_slice(&out.stdout).map_err(|e| format!("vtk_check.py output is not JSON: {e}"))
 }
 
+/// scripts/vtk_check.py's JSON for each of `paths`, from one VTK start-up: `Err` with VTK's
+/// complaint for a file it cannot read. Panics only if the script itself cannot run.
+pub fn vtk_check_many(paths: &[PathBuf], volume: bool) -> Vec<Result<Value, String>> {
+    if paths.len() == 1 {
+        return vec![vtk_check_result(&paths[0], volume)];
+    }
+    let mut cmd = Command::new(VTK_PYTHON);
+    cmd.arg(root().join("scripts/vtk_check.py")).args(paths);
+    if volume {
+        cmd.arg("--volume");
+    }
+    let out = cmd.output().expect("running vtk_check.py");
+    assert!(
+        out.status.success(),
+        "vtk_check.py failed ({:?}): {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let list: Vec<Value> =
+        serde_json::from_slice(&out.stdout).expect("vtk_check.py output is a JSON list");
+    assert_eq!(list.len(), paths.len());
+    list.into_iter()
+        .map(|v| match v.get("error") {
+            Some(e) => Err(format!("VTK cannot read {}: {}", v["file"], e)),
+            None => Ok(v),
+        })
+        .collect()
+}
+
 /// scripts/vtk_check.py's JSON for `path`; panics if VTK cannot read it.
 #[track_caller]
 pub fn vtk_check(path: &Path, volume: bool) -> Value {
@@ -367,8 +396,15 @@ pub fn array_summary(a: &DataArray) -> Value {
     v
 }
 
+/// Summary of a structural array (cell types, offsets, connectivity, faces): what vtk_check.py
+/// reports for those (no name, type or components).
+fn structural_summary(data: ArrayData) -> Value {
+    let a = array_summary(&DataArray::new("", 1, data));
+    json!({"values": a["values"], "crc32": a["crc32"], "sum": a["sum"]})
+}
+
 fn i64_summary(v: &[i64]) -> Value {
-    array_summary(&DataArray::new("", 1, ArrayData::Int64(v.to_vec())))
+    structural_summary(ArrayData::Int64(v.to_vec()))
 }
 
 /// Compares the keys of `ours` with the same keys in `theirs`; component names count only when
@@ -450,10 +486,9 @@ pub fn compare_with_vtk(grid: &Grid, vtk: &Value) -> Result<(), String> {
         );
     }
     if grid.num_cells() > 0 {
-        let types = DataArray::new("", 1, ArrayData::UInt8(grid.cells.types.clone()));
         compare_summary(
             "cell types array",
-            &array_summary(&types),
+            &structural_summary(ArrayData::UInt8(grid.cells.types.clone())),
             &vtk["types"],
             &mut errors,
         );

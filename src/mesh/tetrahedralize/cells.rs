@@ -16,6 +16,10 @@
 //! children fail that (a warped or non-convex cell), the cell is filled from a new centre point
 //! (the mean of its vertices) instead, over the same face triangles, so conformity is kept; if that
 //! fails too, the cell is reported as impossible to split.
+//!
+//! Cells written with repeated point ids (a hexahedron collapsed into a wedge or pyramid, as some
+//! FEM codes write them) work too: fan triangles with a repeated id are dropped, which leaves
+//! exactly the collapsed cell's faces.
 
 use crate::geom::orient3d;
 
@@ -152,8 +156,17 @@ pub fn fan_from_min(face: &[i64], out: &mut Vec<[i64; 3]>) {
         return;
     };
     for k in 1..n.saturating_sub(1) {
-        out.push([face[m], face[(m + k) % n], face[(m + k + 1) % n]]);
+        let t = [face[m], face[(m + k) % n], face[(m + k + 1) % n]];
+        if !degenerate(&t) {
+            out.push(t);
+        }
     }
+}
+
+/// A triangle with a repeated point id: what a collapsed face (a hexahedron written with repeated
+/// nodes for a wedge, say) leaves in a fan. It has no area and no neighbour needs it.
+fn degenerate(t: &[i64; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
 }
 
 /// Why a cell could not be split.
@@ -205,7 +218,17 @@ pub fn split_polytope(
     for f in faces {
         fan_from_min(f, &mut tris);
     }
-    let v0 = faces
+    split_tris(&tris, pos, round)
+}
+
+/// Fills a closed surface given as triangles (fans from each face's smallest id): pulling first,
+/// then a centre point.
+fn split_tris(
+    tris: &[[i64; 3]],
+    pos: &dyn Fn(i64) -> [f64; 3],
+    round: &dyn Fn([f64; 3]) -> [f64; 3],
+) -> Result<Split, SplitError> {
+    let v0 = tris
         .iter()
         .flatten()
         .copied()
@@ -226,7 +249,7 @@ pub fn split_polytope(
         }
     }
     // Centre point: the mean of the distinct vertices.
-    let mut verts: Vec<i64> = faces.iter().flatten().copied().collect();
+    let mut verts: Vec<i64> = tris.iter().flatten().copied().collect();
     verts.sort_unstable();
     verts.dedup();
     let mut c = [0.0f64; 3];
@@ -247,18 +270,25 @@ pub fn split_polytope(
     })
 }
 
-/// Splits a cell whose faces are given as local-index tables.
+/// Splits a cell whose faces are given as local-index tables (at most 8 points per face and 32
+/// triangles in all, which every linear VTK cell meets); no allocation but the result's.
 pub fn split_table(
     ids: &[i64],
     faces: &[&[usize]],
     pos: &dyn Fn(i64) -> [f64; 3],
     round: &dyn Fn([f64; 3]) -> [f64; 3],
 ) -> Result<Split, SplitError> {
-    let faces: Vec<Vec<i64>> = faces
-        .iter()
-        .map(|f| f.iter().map(|&l| ids[l]).collect())
-        .collect();
-    split_polytope(&faces, pos, round)
+    let mut tris = [[0i64; 3]; 32];
+    let mut n = 0;
+    for f in faces {
+        let k = f.len();
+        let m = (0..k).min_by_key(|&j| ids[f[j]]).unwrap_or(0);
+        for j in 1..k.saturating_sub(1) {
+            tris[n] = [ids[f[m]], ids[f[(m + j) % k]], ids[f[(m + j + 1) % k]]];
+            n += !degenerate(&tris[n]) as usize;
+        }
+    }
+    split_tris(&tris[..n], pos, round)
 }
 
 /// A quadratic tetra's 8 linear children (no new point); tries the octahedron's diagonals from
