@@ -313,7 +313,7 @@ fn assemble(
             offsets.push(0i64);
             let mut conn = Vec::with_capacity(data.len() - n);
             let mut k = 0usize;
-            for i in 0..n {
+            for (i, &ty) in types.iter().enumerate() {
                 let npts = data.get(k).copied().ok_or_else(|| {
                     cur.err(at, format!("CELLS: the data ends before cell {i} of {n}"))
                 })?;
@@ -330,7 +330,7 @@ fn assemble(
                         )
                     })?;
                 let ids = &data[k + 1..end];
-                if types[i] != cell_type::POLYHEDRON {
+                if ty != cell_type::POLYHEDRON {
                     if let Some(m) = ids.iter().position(|&x| out_of_range(x)) {
                         return Err(cur.err(
                             cur.value_at(at, k + 1 + m, 4),
