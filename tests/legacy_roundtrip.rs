@@ -127,12 +127,14 @@ fn convert_on_the_command_line_round_trips() {
 
 #[test]
 fn non_finite_values_survive_both_encodings() {
-    let mut g = Grid::default();
-    g.points = DataArray::new(
-        "Points",
-        3,
-        ArrayData::Float64(vec![0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.]),
-    );
+    let mut g = Grid {
+        points: DataArray::new(
+            "Points",
+            3,
+            ArrayData::Float64(vec![0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.]),
+        ),
+        ..Default::default()
+    };
     g.cells.push(cell_type::TETRA, &[0, 1, 2, 3]);
     let special = vec![f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0];
     g.point_data
@@ -149,9 +151,10 @@ fn non_finite_values_survive_both_encodings() {
 
 #[test]
 fn too_large_ids_for_4_2_are_refused_not_truncated() {
-    let mut g = Grid::default();
-    let n = 5usize;
-    g.points = DataArray::new("Points", 3, ArrayData::Float32(vec![0.0; 3 * n]));
+    let mut g = Grid {
+        points: DataArray::new("Points", 3, ArrayData::Float32(vec![0.0; 15])),
+        ..Default::default()
+    };
     g.cells.push(cell_type::TETRA, &[0, 1, 2, 3]);
     g.cells.connectivity[3] = 1 << 33;
     let opts = WriteOptions {
