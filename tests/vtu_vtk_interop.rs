@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use vtu_support::*;
 
 fn vtk_describe(files: &[PathBuf]) -> serde_json::Value {
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/vtk_check.py");
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/vtu_describe.py");
     let out = std::process::Command::new("/usr/bin/python3")
         .arg(script)
         .args(files)

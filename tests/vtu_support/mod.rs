@@ -15,7 +15,7 @@ pub fn manifest() -> serde_json::Value {
 }
 
 /// Zero-pad to 8 bytes, read little-endian u64 words w_i, sum w_i * (2i + 1) mod 2^64
-/// (scripts/make_vtk_fixtures.py and scripts/vtk_check.py compute the same).
+/// (scripts/make_vtk_fixtures.py and scripts/vtu_describe.py compute the same).
 pub fn csum_bytes(b: &[u8]) -> u64 {
     let mut s = 0u64;
     for (i, c) in b.chunks(8).enumerate() {
@@ -130,7 +130,7 @@ pub fn vtk_available() -> bool {
 }
 
 /// Checks counts, cells and every array of `g` against a description in the manifest's shape
-/// (what scripts/make_vtk_fixtures.py and scripts/vtk_check.py print).
+/// (what scripts/make_vtk_fixtures.py and scripts/vtu_describe.py print).
 pub fn check_grid(g: &Grid, m: &serde_json::Value, file: &str) {
     assert_eq!(g.num_points() as u64, m["points"], "{file}: points");
     assert_eq!(g.num_cells() as u64, m["cells"], "{file}: cells");
