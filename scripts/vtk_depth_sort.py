@@ -63,7 +63,7 @@ def main():
     count = 0
     for _ in range(max(1, args.repeat)):
         sort = vtk.vtkCellCenterDepthSort()
-        sort.SetInputData(ug)
+        sort.SetInput(ug)
         sort.SetCamera(cam)
         sort.SetModelTransform(vtk.vtkTransform().GetMatrix())
         sort.SetDirectionToBackToFront()

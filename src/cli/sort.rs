@@ -34,9 +34,30 @@ pub struct SortArgs {
     pub json: bool,
 }
 
-/// Reads a mesh and its tree (if it has one) for the view commands.
+/// Reads a mesh and its tree (if it has one) for the view commands. Meshes with other cells
+/// (Gmsh writes its boundary triangles, lines and vertices too; hexes, wedges...) are
+/// tetrahedralized first, dropping the cells below 3-D, with a note on stderr.
 pub fn load(input: &std::path::Path) -> anyhow::Result<(formats::Grid, TetMesh, Option<KdTree>)> {
-    let grid = super::read_input(input)?;
+    let mut grid = super::read_input(input)?;
+    if grid
+        .cells
+        .types
+        .iter()
+        .any(|&t| t != formats::cell_type::TETRA)
+    {
+        let (tets, report) = crate::mesh::tetrahedralize::tetrahedralize(&grid, false)
+            .with_context(|| format!("tetrahedralizing {}", input.display()))?;
+        let dropped =
+            grid.num_cells() - report.kept_tets - report.split.iter().map(|s| s.1).sum::<usize>();
+        eprintln!(
+            "tetkit: {}: using {} tets ({} cells split into tets, {} cells below 3-D dropped)",
+            input.display(),
+            tets.num_cells(),
+            report.split.iter().map(|s| s.1).sum::<usize>(),
+            dropped
+        );
+        grid = tets;
+    }
     let mesh = TetMesh::from_grid(&grid).with_context(|| format!("{}", input.display()))?;
     let tree = KdTree::from_field_data(&grid.field_data)
         .with_context(|| format!("{}: field data", input.display()))?;

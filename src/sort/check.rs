@@ -15,8 +15,10 @@ pub struct CheckReport {
     pub rays: usize,
     /// Rays that cross at least one tet.
     pub rays_hit: usize,
-    /// Tet crossings summed over rays.
+    /// Tets a ray passes through inside, summed over rays (the ones whose order is checked).
     pub crossings: usize,
+    /// Tets a ray meets only along a face or edge it runs inside (not checked).
+    pub boundary_only_crossings: usize,
     /// Pairs of tets crossed by one ray, drawn in the wrong order (summed over rays).
     pub violations: usize,
     /// Of those, pairs that follow each other directly on the ray.
@@ -91,7 +93,7 @@ pub fn check_order(
     }
     drop(fill);
     let min_len = 1e-10 * diag;
-    let per_ray: Vec<(usize, usize, usize)> = (0..npix)
+    let per_ray: Vec<(usize, usize, usize, usize)> = (0..npix)
         .into_par_iter()
         .map(|pix| {
             let (px, py) = ((pix as u32 % w) as f64 + 0.5, (pix as u32 / w) as f64 + 0.5);
@@ -109,15 +111,16 @@ pub fn check_order(
                 }
             }
             if hits.is_empty() {
-                return (0, 0, 0);
+                return (0, 0, 0, 0);
             }
             hits.sort_by(|a, b| (a.0 + a.1).total_cmp(&(b.0 + b.1)));
-            // Tets whose intervals overlap (a ray running inside a shared face or edge) have no
-            // order on this ray: group them and compare only across groups.
+            // Tets whose intervals overlap share the ray only along a common face or edge (a ray
+            // running inside a face plane): the ray meets none of them inside, so no generic ray
+            // nearby orders them this way. Compare only tets the ray passes through inside.
             let mut group = vec![0u32; hits.len()];
             let mut reach = hits[0].1;
+            let tol = 1e-9 * diag;
             for k in 1..hits.len() {
-                let tol = 1e-9 * diag;
                 group[k] = if hits[k].0 < reach - tol {
                     group[k - 1]
                 } else {
@@ -125,6 +128,15 @@ pub fn check_order(
                 };
                 reach = reach.max(hits[k].1);
             }
+            let mut members = vec![0u32; hits.len()];
+            for &g in &group {
+                members[g as usize] += 1;
+            }
+            let inside: Vec<(u32, u32)> = (0..hits.len())
+                .filter(|&k| members[group[k] as usize] == 1)
+                .map(|k| (group[k], hits[k].2))
+                .collect();
+            let boundary_only = hits.len() - inside.len();
             let wrong = |a: u32, b: u32| {
                 let (ra, rb) = (rank[a as usize], rank[b as usize]);
                 if front_to_back {
@@ -135,17 +147,17 @@ pub fn check_order(
             };
             let mut v = 0usize;
             let mut adj = 0usize;
-            for i in 0..hits.len() {
-                for j in i + 1..hits.len() {
-                    if group[i] != group[j] && wrong(hits[i].2, hits[j].2) {
+            for i in 0..inside.len() {
+                for j in i + 1..inside.len() {
+                    if wrong(inside[i].1, inside[j].1) {
                         v += 1;
-                        if group[j] == group[i] + 1 {
+                        if j == i + 1 {
                             adj += 1;
                         }
                     }
                 }
             }
-            (hits.len(), v, adj)
+            (inside.len(), boundary_only, v, adj)
         })
         .collect();
     let mut r = CheckReport {
@@ -154,9 +166,10 @@ pub fn check_order(
         rays: npix,
         ..Default::default()
     };
-    for (n, v, a) in per_ray {
-        r.rays_hit += (n > 0) as usize;
+    for (n, b, v, a) in per_ray {
+        r.rays_hit += (n + b > 0) as usize;
         r.crossings += n;
+        r.boundary_only_crossings += b;
         r.violations += v;
         r.adjacent_violations += a;
         r.rays_with_violations += (v > 0) as usize;

@@ -94,6 +94,10 @@ pub struct Sorter<'m> {
     leaf_tets: Vec<Vec<u32>>,
     /// Bit `i`: the neighbour across face `i` exists and lies in the same leaf.
     same_leaf: Vec<u8>,
+    /// Bit `i`: the neighbour across face `i` exists.
+    any_neighbor: Vec<u8>,
+    /// `0..n`, the single leaf of `mpvo`.
+    all_tets: Vec<u32>,
     /// Boundary faces of each non-convex leaf (`None` for convex leaves).
     leaf_boundary: Vec<Option<nonconvex::LeafBoundary>>,
     centroids: Vec<[f64; 3]>,
@@ -153,8 +157,15 @@ impl<'m> Sorter<'m> {
             .par_iter()
             .map(|tets| nonconvex::LeafBoundary::build(mesh, &adj, &same_leaf, tets))
             .collect();
+        let any_neighbor: Vec<u8> = adj
+            .neighbors
+            .par_iter()
+            .map(|nb| (0..4).fold(0u8, |m, i| m | (((nb[i] != NONE) as u8) << i)))
+            .collect();
         Ok(Sorter {
             mesh,
+            any_neighbor,
+            all_tets: (0..n as u32).collect(),
             adj,
             tree,
             leaf_of,
@@ -209,25 +220,28 @@ impl<'m> Sorter<'m> {
         let ftb = dir == Direction::FrontToBack;
         let nbr = &self.adj.neighbors;
         let side = &self.adj.positive_side;
-        // Per tet: which faces lead to a successor (post) and how many predecessors it has.
-        let (post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
+        let mask_of = |t: usize| -> u8 {
+            if kd {
+                self.same_leaf[t]
+            } else {
+                self.any_neighbor[t]
+            }
+        };
+        // Pass 1: each shared face evaluated once, by its lower tet. Bit i: this tet is in front
+        // across face i (the eye is on its side); bit 4 + i: behind; neither: seen edge-on.
+        let front: Vec<u8> = (0..n)
             .into_par_iter()
             .with_min_len(4096)
             .map(|t| {
                 let tet = &mesh.tets[t];
-                let mask = if kd {
-                    self.same_leaf[t]
-                } else {
-                    nbr[t]
-                        .iter()
-                        .enumerate()
-                        .fold(0u8, |m, (i, &x)| m | (((x != NONE) as u8) << i))
-                };
-                let (mut post, mut pre) = (0u8, 0u32);
-                let mut bits = mask;
+                let mut out = 0u8;
+                let mut bits = mask_of(t);
                 while bits != 0 {
                     let i = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
+                    if (nbr[t][i] as usize) < t {
+                        continue;
+                    }
                     let f = sorted_face(tet, i);
                     let s = side::eye_side(
                         view,
@@ -235,12 +249,36 @@ impl<'m> Sorter<'m> {
                         &mesh.points[f[1] as usize],
                         &mesh.points[f[2] as usize],
                     );
-                    if s == 0 {
+                    if s != 0 {
+                        let in_front = (s > 0) == (side[t] >> i & 1 == 1);
+                        out |= if in_front { 1 << i } else { 16 << i };
+                    }
+                }
+                out
+            })
+            .collect();
+        // Pass 2: per tet, which faces lead to a successor (post) and how many predecessors.
+        let mirror = &self.adj.mirror;
+        let (post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|t| {
+                let (mut post, mut pre) = (0u8, 0u32);
+                let mut bits = mask_of(t);
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let m = nbr[t][i] as usize;
+                    let (ahead, behind) = if m > t {
+                        (front[t] >> i & 1, front[t] >> (4 + i) & 1)
+                    } else {
+                        let j = (mirror[t] >> (2 * i) & 3) as usize;
+                        (front[m] >> (4 + j) & 1, front[m] >> j & 1)
+                    };
+                    if ahead | behind == 0 {
                         continue;
                     }
-                    // The eye on this tet's side of the face: this tet is in front.
-                    let in_front = (s > 0) == (side[t] >> i & 1 == 1);
-                    if in_front == ftb {
+                    if (ahead == 1) == ftb {
                         post |= 1 << i;
                     } else {
                         pre += 1;
@@ -249,11 +287,12 @@ impl<'m> Sorter<'m> {
                 (post, AtomicU32::new(pre))
             })
             .unzip();
+        drop(front);
         let face_constraints = post.par_iter().map(|b| b.count_ones() as usize).sum();
-        let leaves: Vec<Vec<u32>> = if kd {
-            self.leaf_tets.clone()
+        let leaves: &[Vec<u32>] = if kd {
+            &self.leaf_tets
         } else {
-            vec![(0..n as u32).collect()]
+            std::slice::from_ref(&self.all_tets)
         };
         let leaf_of: Vec<u32> = if kd { self.leaf_of.clone() } else { vec![0; n] };
         // Dependencies adjacency misses: boundary faces of non-convex leaves overlapping on screen.

@@ -267,12 +267,16 @@ impl PairCtx<'_> {
 
     /// Whether some ray from the eye crosses exit face `f` and then entry face `g`.
     fn exit_in_front(&self, f: usize, g: usize) -> bool {
+        let (ft, gt) = (self.tri[f], self.tri[g]);
         if let (Some(a), Some(b)) = (&self.shapes[f], &self.shapes[g]) {
             if separated(a, b, self.tol) {
                 return false;
             }
+            // Exactly: the projections' interiors must meet, or no ray crosses both faces.
+            if self.exactly_separated(&ft, &gt) || self.exactly_separated(&gt, &ft) {
+                return false;
+            }
         }
-        let (ft, gt) = (self.tri[f], self.tri[g]);
         // g against f's plane: for an exit face the eye is on the inner (positive) side.
         let side_f = ft_side(self.pts, &ft, &gt);
         match side_f {
@@ -288,6 +292,21 @@ impl PairCtx<'_> {
             Side::Mixed => {}
         }
         self.sample_in_front(f, g)
+    }
+
+    /// Whether an edge line of `t` (seen from the eye) leaves all of `o` on the side away from
+    /// `t`, touching allowed: the projective orientation `orient3d(p, q, x, eye)` has the same
+    /// sign as the projected 2D orientation for points in front of the eye, so this is exact.
+    fn exactly_separated(&self, t: &[u32; 3], o: &[u32; 3]) -> bool {
+        let s = eye_side(&self.view, self.p(t[0]), self.p(t[1]), self.p(t[2]));
+        if s == 0 {
+            return true;
+        }
+        (0..3).any(|i| {
+            let (p, q) = (self.p(t[i]), self.p(t[(i + 1) % 3]));
+            o.iter()
+                .all(|&x| eye_side(&self.view, p, q, self.p(x)) * s <= 0)
+        })
     }
 
     /// Neither plane separates the two (rare): compare depths along a ray through a point of

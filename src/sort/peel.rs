@@ -12,7 +12,7 @@ pub const UNSET: u32 = u32::MAX;
 /// A released tet's in-degree: far above any count of decrements it can still receive.
 const RELEASED: u32 = 1 << 30;
 /// Frontiers at least this large are relaxed in parallel.
-const PAR_FRONTIER: usize = 4096;
+const PAR_FRONTIER: usize = 1024;
 
 /// The precedence graph of one view, over global tet ids. `t` must come before `n` when bit `i`
 /// of `post[t]` is set and `n = neighbors[t][i]`, and before every `extra_to[extra_off[t]..]`.
@@ -106,7 +106,7 @@ pub fn peel(g: &Graph, tets: &[u32], indeg: &[AtomicU32], layer: &[AtomicU32]) -
         };
         frontier = if frontier.len() >= PAR_FRONTIER {
             frontier
-                .par_chunks(1024)
+                .par_chunks(256)
                 .flat_map_iter(|ch| {
                     let mut out = Vec::with_capacity(ch.len());
                     for &t in ch {

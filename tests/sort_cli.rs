@@ -1,0 +1,193 @@
+//! `tetkit sort` and `tetkit check-order` on real meshes (Gmsh solids with a hole, an L shape and
+//! a cavity): zero ray-order violations for kd in perspective, orthographic, eye-inside and
+//! eye-on-a-face-plane views, centroid's violations recorded, output arrays, camera files, errors.
+
+mod common;
+
+use common::{fixture, tempdir, tetkit};
+use serde_json::Value;
+
+fn json(run: &common::Run) -> Value {
+    serde_json::from_slice(&run.stdout)
+        .unwrap_or_else(|e| panic!("bad JSON ({e}) from {:?}:\n{}", run.args, run.stdout_str()))
+}
+
+fn violations(mesh: &str, method: &str, camera: &[&str]) -> (u64, u64) {
+    let path = fixture(mesh);
+    let mut args = vec![
+        "check-order".to_string(),
+        path.display().to_string(),
+        "--method".into(),
+        method.into(),
+        "--rays".into(),
+        "3600".into(),
+        "--json".into(),
+    ];
+    args.extend(camera.iter().map(|s| s.to_string()));
+    let r = tetkit(&args);
+    r.assert_success();
+    let j = json(&r);
+    (
+        j["report"]["violations"].as_u64().unwrap(),
+        j["report"]["crossings"].as_u64().unwrap(),
+    )
+}
+
+/// Views of the Gmsh fixtures: perspective, orthographic, an eye inside the bounding box (in
+/// block_hole's through-hole, in the L's notch, inside the cube with a cavity), and eyes exactly
+/// on a boundary face plane (x = 0 and z = 0 are faces of all three solids).
+fn views() -> Vec<Vec<&'static str>> {
+    vec![
+        vec!["--position=3.5,-2.1,2.4", "--focal=1,0.5,0.4"],
+        vec![
+            "--position=-1.5,2.9,-1.2",
+            "--focal=0.8,0.5,0.5",
+            "--up=0,0,1",
+        ],
+        vec![
+            "--position=3,-2,2.2",
+            "--focal=1,0.5,0.5",
+            "--up=0,0,1",
+            "--parallel",
+        ],
+        vec!["--azimuth=35", "--elevation=25", "--parallel"],
+        vec![
+            "--position=0.7,0.5,0.45",
+            "--focal=1.9,0.8,0.5",
+            "--up=0,0,1",
+            "--view-angle=80",
+        ],
+        vec![
+            "--position=1.6,1.6,0.3",
+            "--focal=0.5,0.5,0.3",
+            "--up=0,0,1",
+            "--view-angle=90",
+        ],
+        vec!["--position=0,-2,0.5", "--focal=1,0.5,0.5", "--up=0,0,1"],
+        vec!["--position=0.9,0.45,0", "--focal=0.9,0.55,1", "--up=1,0,0"],
+    ]
+}
+
+#[test]
+fn kd_is_exact_on_gmsh_solids_and_centroid_is_not() {
+    let mut report = Vec::new();
+    for mesh in ["gmsh/block_hole.vtk", "gmsh/lshape.vtk", "gmsh/cavity.vtk"] {
+        let mut centroid = 0;
+        let mut mpvo = 0;
+        let mut crossings = 0;
+        for v in views() {
+            let (kd, c) = violations(mesh, "kd", &v);
+            assert_eq!(kd, 0, "kd on {mesh} with {v:?}");
+            crossings += c;
+            centroid += violations(mesh, "centroid", &v).0;
+            mpvo += violations(mesh, "mpvo", &v).0;
+        }
+        assert!(crossings > 0, "{mesh}: no ray met the mesh");
+        report.push(format!(
+            "{mesh}: kd 0, mpvo {mpvo}, centroid {centroid} violations over {} views",
+            views().len()
+        ));
+        assert!(
+            centroid > 0,
+            "{mesh}: centroid was expected to misorder some pairs"
+        );
+    }
+    eprintln!("{}", report.join("\n"));
+}
+
+#[test]
+fn sort_writes_order_layer_and_leaf_and_keeps_arrays() {
+    let dir = tempdir();
+    let out = dir.path().join("ordered.vtk");
+    let r = tetkit([
+        "sort",
+        fixture("gmsh/lshape.vtk").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "kd",
+        "--direction",
+        "front-to-back",
+        "--azimuth=30",
+        "--elevation=20",
+        "--json",
+    ]);
+    r.assert_success();
+    let j = json(&r);
+    assert_eq!(j["stats"]["method"], "kd");
+    assert_eq!(j["stats"]["cycles"], 0);
+    let grid = tetkit::formats::read(&out).unwrap();
+    let n = grid.num_cells();
+    assert_eq!(j["stats"]["tets"].as_u64().unwrap() as usize, n);
+    let order = grid.cell_data.get("visibility_order").unwrap();
+    let mut seen = vec![false; n];
+    for i in 0..n {
+        let v = order.data.get_f64(i) as usize;
+        assert!(!seen[v]);
+        seen[v] = true;
+    }
+    assert!(grid.cell_data.get("layer").is_some());
+    assert!(grid.cell_data.get("leaf_id").is_some());
+    // The written order checks clean from the file alone (the checker re-reads the direction).
+    let r = tetkit([
+        "check-order",
+        out.to_str().unwrap(),
+        "--azimuth=30",
+        "--elevation=20",
+        "--rays=2500",
+        "--json",
+    ]);
+    r.assert_success();
+    let c = json(&r);
+    assert_eq!(c["checked"], "visibility_order array");
+    assert_eq!(c["front_to_back"], true);
+    assert_eq!(c["report"]["violations"], 0, "{c}");
+    let input = tetkit::formats::read(&fixture("gmsh/lshape.vtk")).unwrap();
+    for a in &input.point_data.arrays {
+        assert!(
+            grid.point_data.get(&a.name).is_some(),
+            "point array {} lost",
+            a.name
+        );
+    }
+}
+
+#[test]
+fn camera_file_and_errors() {
+    let mesh = fixture("gmsh/block_hole.vtk");
+    let pvcc = fixture("camera/oblique.pvcc");
+    let (v, c) = violations(
+        "gmsh/block_hole.vtk",
+        "kd",
+        &[&format!("--camera-file={}", pvcc.display())],
+    );
+    assert_eq!(v, 0);
+    assert!(c > 0);
+    let dir = tempdir();
+    let bad = dir.path().join("bad.pvcc");
+    let text = std::fs::read_to_string(&pvcc)
+        .unwrap()
+        .replace("value=\"-2.3\"", "value=\"oops\"");
+    std::fs::write(&bad, text).unwrap();
+    let out = dir.path().join("o.vtk");
+    tetkit([
+        "sort",
+        mesh.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--camera-file",
+        bad.to_str().unwrap(),
+    ])
+    .assert_failure(&["bad.pvcc", "line 6", "oops"]);
+    assert!(!out.exists(), "no output after a failure");
+    tetkit([
+        "sort",
+        mesh.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--position=1,0.5,3",
+        "--up=0,0,1",
+    ])
+    .assert_failure(&["parallel to the view direction"]);
+    assert!(!out.exists());
+}
