@@ -39,7 +39,11 @@ fn regular_grid_planes_on_vertex_layers() {
         assert_eq!(out.report.leaves, 8, "{s:?}");
         check_partition(&m, &out, Some(&f), 1e-12, 1e-15, true);
         if s == Strategy::Cost {
-            assert_eq!(out.report.tets_after, m.tets.len(), "layer planes cut nothing");
+            assert_eq!(
+                out.report.tets_after,
+                m.tets.len(),
+                "layer planes cut nothing"
+            );
         } else {
             assert!(out.report.tets_after > m.tets.len());
         }
@@ -183,7 +187,11 @@ fn duplicate_points_give_identical_seam_vertices() {
     // Each seam triangle appears exactly twice: once from each side, with identical coordinates.
     let mut i = 0;
     while i < faces.len() {
-        assert!(i + 1 < faces.len() && faces[i] == faces[i + 1], "seam triangle {:?} has no twin", faces[i]);
+        assert!(
+            i + 1 < faces.len() && faces[i] == faces[i + 1],
+            "seam triangle {:?} has no twin",
+            faces[i]
+        );
         i += 2;
     }
 }
@@ -205,7 +213,10 @@ fn disconnected_components_split_in_the_gap() {
         assert_eq!(out.report.leaves, 2);
         let split = out.tree.nodes[0].split.unwrap();
         assert_eq!(split.axis, 0, "{s:?}");
-        assert!(split.position >= 1.0 && split.position <= 3.0, "{s:?}: {split:?}");
+        assert!(
+            split.position >= 1.0 && split.position <= 3.0,
+            "{s:?}: {split:?}"
+        );
         assert_eq!(out.report.tets_after, m.tets.len(), "the gap cuts nothing");
         check_partition(&m, &out, Some(&f), 1e-12, 1e-15, true);
     }

@@ -69,16 +69,22 @@ pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>)> {
         let (tets, report) = crate::mesh::tetrahedralize::tetrahedralize(grid, false)
             .with_context(|| format!("{name}: tetrahedralizing"))?;
         for (t, k) in &report.split {
-            eprintln!("tetkit: {name}: split {k} {} cells into tets", cell_type::name(*t));
+            eprintln!(
+                "tetkit: {name}: split {k} {} cells into tets",
+                cell_type::name(*t)
+            );
         }
         if report.dropped > 0 {
-            eprintln!("tetkit: {name}: dropped {} cells of dimension 0-2", report.dropped);
+            eprintln!(
+                "tetkit: {name}: dropped {} cells of dimension 0-2",
+                report.dropped
+            );
         }
         let ids = match tets.cell_data.get(ORIGINAL_CELL_ID) {
             Some(a) => a.data.to_f64_vec().into_iter().map(|v| v as i64).collect(),
             None => (0..tets.num_cells() as i64).collect(),
         };
-        let mesh = TetMesh::from_grid(&tets).with_context(|| format!("{name}"))?;
+        let mesh = TetMesh::from_grid(&tets).with_context(|| name.to_string())?;
         return Ok((mesh, ids));
     }
     let keep: Vec<usize> = (0..n)
@@ -86,7 +92,10 @@ pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>)> {
         .collect();
     let dropped = n - keep.len();
     let mesh = if dropped > 0 {
-        eprintln!("tetkit: {name}: dropped {dropped} cells of dimension 0-2 (kept {} tets)", keep.len());
+        eprintln!(
+            "tetkit: {name}: dropped {dropped} cells of dimension 0-2 (kept {} tets)",
+            keep.len()
+        );
         let mut g = grid.clone();
         let mut cells = formats::Cells::new();
         for &i in &keep {
@@ -99,14 +108,24 @@ pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>)> {
         TetMesh::from_grid(grid)
     }
     .with_context(|| name.to_string())?;
-    Ok((mesh, keep.into_iter().map(|i| i as i64).collect()))
+    // An input that already carries integer original_cell_id (a tetrahedralized or split mesh)
+    // keeps pointing at the first mesh.
+    let carried = grid
+        .cell_data
+        .get(ORIGINAL_CELL_ID)
+        .filter(|a| a.components == 1 && a.data.scalar_type().is_some_and(|t| !t.is_float()));
+    let ids = match carried {
+        Some(a) => keep.iter().map(|&i| a.data.get_f64(i) as i64).collect(),
+        None => keep.into_iter().map(|i| i as i64).collect(),
+    };
+    Ok((mesh, ids))
 }
 
 pub fn run(args: &PartitionArgs) -> Result<()> {
     if args.candidates == 0 {
         bail!("--candidates must be at least 1");
     }
-    if !(args.phi >= 0.0) || !(args.eps >= 0.0) {
+    if args.phi.is_nan() || args.eps.is_nan() || args.phi < 0.0 || args.eps < 0.0 {
         bail!("--phi and --eps must be non-negative numbers");
     }
     if matches!(args.leaves, Some(0)) {
@@ -174,7 +193,11 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
         let pieces = output::leaf_pieces(&result.mesh, &result.tree);
         let vtm = output::write_pieces(dir, &stem, &pieces, &wopts)?;
         if !args.json {
-            eprintln!("tetkit: wrote {} leaf pieces named by {}", pieces.len(), vtm.display());
+            eprintln!(
+                "tetkit: wrote {} leaf pieces named by {}",
+                pieces.len(),
+                vtm.display()
+            );
         }
     }
     if args.json {

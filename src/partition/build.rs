@@ -138,14 +138,20 @@ pub fn volume_sign(p: &[[f64; 3]; 4]) -> f64 {
 pub fn partition(input: &TetMesh, opts: &PartitionOptions) -> Result<Partitioned> {
     let start = Instant::now();
     if input.tets.len() > u32::MAX as usize / 8 {
-        bail!("{} tets is more than the partition handles (u32 ids with room for growth)", input.tets.len());
+        bail!(
+            "{} tets is more than the partition handles (u32 ids with room for growth)",
+            input.tets.len()
+        );
     }
     if let Some(t) = input
         .tets
         .iter()
         .position(|t| t.iter().any(|&v| v as usize >= input.points.len()))
     {
-        bail!("tet {t} refers to a point beyond the {} points", input.points.len());
+        bail!(
+            "tet {t} refers to a point beyond the {} points",
+            input.points.len()
+        );
     }
     let mut tets = input.tets.clone();
     let signs: Vec<f64> = tets
@@ -267,8 +273,7 @@ impl Build {
         let made: Vec<([f64; 3], (usize, usize, f64))> = edges
             .par_iter()
             .map(|&(a, bb)| {
-                let (pt, a_first, t) =
-                    edge_point(&points[a as usize], &points[bb as usize], k, p);
+                let (pt, a_first, t) = edge_point(&points[a as usize], &points[bb as usize], k, p);
                 let (lo, hi) = if a_first { (a, bb) } else { (bb, a) };
                 (pt, (lo as usize, hi as usize, t))
             })
@@ -321,7 +326,11 @@ impl Build {
             }
         }
         for (&t, pieces) in crossing.iter().zip(cut_pieces) {
-            for (q, s) in pieces.into_iter().enumerate().map(|(i, x)| (self.place(t, i, x.0), x.1)) {
+            for (q, s) in pieces
+                .into_iter()
+                .enumerate()
+                .map(|(i, x)| (self.place(t, i, x.0), x.1))
+            {
                 if s < 0 {
                     left.push(q);
                 } else {
@@ -506,7 +515,7 @@ impl Build {
         let leaf_ids: Vec<i32> = leaf_nodes
             .iter()
             .enumerate()
-            .flat_map(|(l, &i)| std::iter::repeat_n(l as i32, self.nodes[i].tets.len()))
+            .flat_map(|(l, &i)| std::iter::repeat(l as i32).take(self.nodes[i].tets.len()))
             .collect();
         let out_tets: Vec<[u32; 4]> = order.iter().map(|&t| self.tets[t as usize]).collect();
         let original: Vec<u32> = order.iter().map(|&t| self.original[t as usize]).collect();
@@ -527,7 +536,10 @@ impl Build {
             .cloned()
             .collect();
         field_data.extend(tree.to_field_data());
-        let sizes: Vec<usize> = leaf_nodes.iter().map(|&i| self.nodes[i].tets.len()).collect();
+        let sizes: Vec<usize> = leaf_nodes
+            .iter()
+            .map(|&i| self.nodes[i].tets.len())
+            .collect();
         let largest = sizes.iter().copied().max().unwrap_or(0);
         let smallest = sizes.iter().copied().min().unwrap_or(0);
         let mean = out_tets.len() as f64 / sizes.len().max(1) as f64;
@@ -538,7 +550,11 @@ impl Build {
             tets_before: input.tets.len(),
             tets_after: out_tets.len(),
             growth: out_tets.len() as f64 / input.tets.len().max(1) as f64,
-            balance: if mean > 0.0 { largest as f64 / mean } else { 1.0 },
+            balance: if mean > 0.0 {
+                largest as f64 / mean
+            } else {
+                1.0
+            },
             largest_leaf: largest,
             smallest_leaf: smallest,
             points_before: input.points.len(),

@@ -20,12 +20,20 @@ pub fn tree_grid(tree: &KdTree) -> Grid {
         let (lo, hi) = (node.bounds.min, node.bounds.max);
         // VTK hexahedron order: bottom face counter-clockwise, then the top face.
         for z in [lo[2], hi[2]] {
-            for (x, y) in [(lo[0], lo[1]), (hi[0], lo[1]), (hi[0], hi[1]), (lo[0], hi[1])] {
+            for (x, y) in [
+                (lo[0], lo[1]),
+                (hi[0], lo[1]),
+                (hi[0], hi[1]),
+                (lo[0], hi[1]),
+            ] {
                 pts.extend([x, y, z]);
             }
         }
         let b = 8 * i as i64;
-        cells.push(cell_type::HEXAHEDRON, &[b, b + 1, b + 2, b + 3, b + 4, b + 5, b + 6, b + 7]);
+        cells.push(
+            cell_type::HEXAHEDRON,
+            &[b, b + 1, b + 2, b + 3, b + 4, b + 5, b + 6, b + 7],
+        );
     }
     let i32s = |f: &dyn Fn(usize) -> i32| ArrayData::Int32((0..n).map(f).collect());
     let nodes = &tree.nodes;
@@ -143,7 +151,8 @@ pub fn write_pieces(
             .with_context(|| format!("creating {}", vtm.display()))?;
         std::io::Write::write_all(&mut f, xml.as_bytes())
             .with_context(|| format!("writing {}", vtm.display()))?;
-        f.commit().with_context(|| format!("writing {}", vtm.display()))?;
+        f.commit()
+            .with_context(|| format!("writing {}", vtm.display()))?;
         Ok(vtm)
     })();
     if result.is_err() {

@@ -265,7 +265,7 @@ pub fn choose_plane(
             for cands in per_axis {
                 // Steps 2-4: smallest beta first; give up the axis once beta exceeds PHI.
                 let mut order = cands;
-                order.sort_by(|a, b| a.pieces.cmp(&b.pieces));
+                order.sort_by_key(|a| a.pieces);
                 let found = order
                     .into_iter()
                     .take_while(|c| c.beta(n) <= params.phi)
@@ -324,10 +324,10 @@ mod tests {
         jitter(&mut m, [5, 4, 3], 0.2, 3);
         let node: Vec<u32> = (0..m.tets.len() as u32).collect();
         let coords = vertex_coordinates(&node, &m.tets, &m.points);
-        for axis in 0..3 {
+        for (axis, axis_coords) in coords.iter().enumerate() {
             // Gap midpoints, exact vertex coordinates and positions outside the mesh.
-            let mut pos = paper_positions(&coords[axis], 9);
-            pos.extend(coords[axis].iter().step_by(3));
+            let mut pos = paper_positions(axis_coords, 9);
+            pos.extend(axis_coords.iter().step_by(3));
             pos.extend([-1.0, 2.0]);
             pos.sort_unstable_by(f64::total_cmp);
             pos.dedup();

@@ -173,7 +173,12 @@ fn cone_side(
 /// same segment gives the same bits whichever way round it is passed; the coordinate on `axis` is
 /// exactly `position`, and every other coordinate is clamped to the segment's range so the vertex
 /// stays in any box that holds both endpoints. Returns `(point, first endpoint is a, t)`.
-pub fn edge_point(pa: &[f64; 3], pb: &[f64; 3], axis: usize, position: f64) -> ([f64; 3], bool, f64) {
+pub fn edge_point(
+    pa: &[f64; 3],
+    pb: &[f64; 3],
+    axis: usize,
+    position: f64,
+) -> ([f64; 3], bool, f64) {
     let a_first = pa.partial_cmp(pb) != Some(std::cmp::Ordering::Greater);
     let (lo, hi) = if a_first { (pa, pb) } else { (pb, pa) };
     let t = (position - lo[axis]) / (hi[axis] - lo[axis]);
@@ -227,13 +232,16 @@ mod tests {
             sum += v;
         }
         assert!((sum - whole).abs() <= 1e-14 * whole, "{sum} vs {whole}");
-        let (l, r) = out.iter().fold((0, 0), |(l, r), x| {
-            if x.1 < 0 {
-                (l + 1, r)
-            } else {
-                (l, r + 1)
-            }
-        });
+        let (l, r) = out.iter().fold(
+            (0, 0),
+            |(l, r), x| {
+                if x.1 < 0 {
+                    (l + 1, r)
+                } else {
+                    (l, r + 1)
+                }
+            },
+        );
         let sides = pts.map(|p| side(p[0], position));
         let c = |s: i8| sides.iter().filter(|&&x| x == s).count() as u8;
         assert_eq!(case_counts(c(-1), c(0), c(1)), (l, r));

@@ -12,11 +12,7 @@ use tetkit::partition::{Partitioned, LEAF_ID, ORIGINAL_CELL_ID};
 
 /// 1 + 2x - 3y + z/2 relative to `origin`, as Float64 point data named `lin`.
 pub fn add_linear_field(m: &mut TetMesh, origin: [f64; 3], scale: f64) {
-    let v = m
-        .points
-        .iter()
-        .map(|p| lin(p, origin, scale))
-        .collect();
+    let v = m.points.iter().map(|p| lin(p, origin, scale)).collect();
     m.point_data
         .insert(DataArray::new("lin", 1, ArrayData::Float64(v)));
 }
@@ -59,7 +55,10 @@ pub fn face_counts(tets: &[[u32; 4]]) -> HashMap<[u32; 3], u32> {
 }
 
 fn int_array(m: &TetMesh, name: &str) -> Vec<i64> {
-    let a = m.cell_data.get(name).unwrap_or_else(|| panic!("no cell array {name}"));
+    let a = m
+        .cell_data
+        .get(name)
+        .unwrap_or_else(|| panic!("no cell array {name}"));
     a.data.to_f64_vec().into_iter().map(|v| v as i64).collect()
 }
 
@@ -77,13 +76,16 @@ fn plane_distance(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], p: &[f64; 3]) -> f64
     (w[0] * n[0] + w[1] * n[1] + w[2] * n[2]).abs() / len
 }
 
+/// The exact linear field a test put in `lin`.
+pub type LinearField = dyn Fn(&[f64; 3]) -> f64;
+
 /// Every property the issue asks of a partition of `input` (tets positively oriented or not;
 /// `vol_tol` is the relative tolerance for volume sums, `geo_tol` the absolute one for points
 /// lying on faces). `conforming_input`: the input shares faces by point ids.
 pub fn check_partition(
     input: &TetMesh,
     out: &Partitioned,
-    lin_fn: Option<&dyn Fn(&[f64; 3]) -> f64>,
+    lin_fn: Option<&LinearField>,
     vol_tol: f64,
     geo_tol: f64,
     conforming_input: bool,
@@ -98,7 +100,11 @@ pub fn check_partition(
         assert_eq!(b.components, a.components);
         let c = a.components;
         let head = b.data.gather(c, &(0..n_old).collect::<Vec<_>>());
-        assert!(head.bit_eq(&a.data), "point array {} changed at old points", a.name);
+        assert!(
+            head.bit_eq(&a.data),
+            "point array {} changed at old points",
+            a.name
+        );
         assert_eq!(b.tuples(), m.points.len());
     }
     // Linear fields are interpolated exactly (up to rounding).
@@ -115,7 +121,13 @@ pub fn check_partition(
     }
     // No duplicate points made.
     let mut seen = HashSet::new();
-    let dup_in = input.points.len() - input.points.iter().map(|p| p.map(f64::to_bits)).collect::<HashSet<_>>().len();
+    let dup_in = input.points.len()
+        - input
+            .points
+            .iter()
+            .map(|p| p.map(f64::to_bits))
+            .collect::<HashSet<_>>()
+            .len();
     let mut dups = 0;
     for p in &m.points {
         if !seen.insert(p.map(f64::to_bits)) {
@@ -133,7 +145,11 @@ pub fn check_partition(
     for a in &input.cell_data.arrays {
         let b = m.cell_data.get(&a.name).expect("cell array kept");
         let idx: Vec<usize> = orig.iter().map(|&o| o as usize).collect();
-        assert!(b.data.bit_eq(&a.data.gather(a.components, &idx)), "cell array {} not copied", a.name);
+        assert!(
+            b.data.bit_eq(&a.data.gather(a.components, &idx)),
+            "cell array {} not copied",
+            a.name
+        );
     }
     // Every sub-tet positive and inside its leaf box (exact comparisons); leaves grouped in order.
     let leaf_nodes = out.tree.leaf_nodes();
@@ -151,7 +167,10 @@ pub fn check_partition(
         last = l;
         let b = out.tree.nodes[leaf_nodes[l as usize] as usize].bounds;
         for x in &p {
-            assert!(b.contains(x), "sub-tet {t} vertex {x:?} outside leaf {l} box {b:?}");
+            assert!(
+                b.contains(x),
+                "sub-tet {t} vertex {x:?} outside leaf {l} box {b:?}"
+            );
         }
     }
     // Tree counts match.
@@ -191,7 +210,10 @@ pub fn check_partition(
         }
     }
     let fout = face_counts(&m.tets);
-    assert!(fout.values().all(|&c| c <= 2), "a face shared by more than two tets");
+    assert!(
+        fout.values().all(|&c| c <= 2),
+        "a face shared by more than two tets"
+    );
     let mut area_out = 0.0;
     for (t, q) in m.tets.iter().enumerate() {
         for f in faces(q) {
@@ -200,7 +222,10 @@ pub fn check_partition(
             }
             let p = f.map(|v| m.points[v as usize]);
             area_out += area(&p);
-            let cands = by_tet.get(&(orig[t] as usize)).map(Vec::as_slice).unwrap_or(&[]);
+            let cands = by_tet
+                .get(&(orig[t] as usize))
+                .map(Vec::as_slice)
+                .unwrap_or(&[]);
             let on = cands.iter().any(|g| {
                 let a = g.map(|v| input.points[v as usize]);
                 p.iter().all(|x| {
@@ -208,7 +233,10 @@ pub fn check_partition(
                         || plane_distance(&a[0], &a[1], &a[2], x) <= geo_tol
                 })
             });
-            assert!(on, "boundary face {f:?} of sub-tet {t} is not on the input's boundary");
+            assert!(
+                on,
+                "boundary face {f:?} of sub-tet {t} is not on the input's boundary"
+            );
         }
     }
     let area_in: f64 = boundary_in
@@ -231,4 +259,3 @@ fn area(p: &[[f64; 3]; 3]) -> f64 {
     ];
     0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
 }
-
