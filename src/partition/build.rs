@@ -207,9 +207,17 @@ pub fn partition(input: &TetMesh, opts: &PartitionOptions) -> Result<Partitioned
         let mut next = Vec::new();
         let mut no_plane = 0;
         for (&i, plane) in chosen.iter().zip(&planes) {
+            // A neighbour cut in this level may have put vertices near the plane chosen before
+            // it: search again on the current tets then.
+            let plane = match plane {
+                Some(c) if b.clearance(i, c) < c.clearance => {
+                    choose_plane(&b.nodes[i].tets, &b.tets, &b.points, &opts.search)
+                }
+                other => *other,
+            };
             match plane {
                 Some(c) => {
-                    let (l, r) = b.cut_node(i, c);
+                    let (l, r) = b.cut_node(i, &c);
                     next.push(l);
                     next.push(r);
                 }
@@ -230,6 +238,19 @@ pub fn partition(input: &TetMesh, opts: &PartitionOptions) -> Result<Partitioned
 }
 
 impl Build {
+    /// The distance along the plane's axis from the plane to the nearest vertex of node `n` not
+    /// on it.
+    fn clearance(&self, n: usize, c: &Candidate) -> f64 {
+        let (k, p) = (c.axis as usize, c.position);
+        self.nodes[n]
+            .tets
+            .par_iter()
+            .flat_map_iter(|&t| self.tets[t as usize].into_iter())
+            .map(|v| (self.points[v as usize][k] - p).abs())
+            .filter(|&d| d > 0.0)
+            .reduce(|| f64::INFINITY, f64::min)
+    }
+
     /// Cuts node `n` by the candidate's plane; returns the two children's node ids.
     fn cut_node(&mut self, n: usize, c: &Candidate) -> (usize, usize) {
         let (k, p) = (c.axis as usize, c.position);

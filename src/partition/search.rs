@@ -49,6 +49,9 @@ pub struct Candidate {
     /// Tets the plane cuts, and the sub-tets they become.
     pub cut: u64,
     pub pieces: u64,
+    /// Distance along the axis from the plane to the nearest vertex coordinate not on it, when
+    /// the plane was chosen (a node's cut re-checks it: a neighbour's cut may have added vertices).
+    pub clearance: f64,
 }
 
 impl Candidate {
@@ -89,19 +92,37 @@ pub fn vertex_coordinates(
     [axis_coords(0), axis_coords(1), axis_coords(2)]
 }
 
-/// The midpoint of the open gap `(a, b)`, if a float lies strictly inside it.
-fn gap_mid(a: f64, b: f64) -> Option<f64> {
+/// Gaps between vertex coordinates narrower than this fraction of the node's extent are never
+/// used for a plane: a plane that close to a vertex would make slivers whose new vertices round
+/// onto each other.
+pub const MIN_GAP: f64 = 1e-9;
+
+/// The midpoint of the open gap `(a, b)`, if the gap is at least `min` wide and a float lies
+/// strictly inside it.
+fn gap_mid(a: f64, b: f64, min: f64) -> Option<f64> {
     let m = 0.5 * a + 0.5 * b;
-    (a < m && m < b).then_some(m)
+    (b - a >= min && a < m && m < b).then_some(m)
+}
+
+/// Distance from `p` to the nearest coordinate in `coords` (sorted) other than `p` itself.
+pub fn clearance(coords: &[f64], p: f64) -> f64 {
+    let j = coords.partition_point(|&c| c < p);
+    let below = coords[..j].last().map_or(f64::INFINITY, |&c| p - c);
+    let k = coords.partition_point(|&c| c <= p);
+    let above = coords.get(k).map_or(f64::INFINITY, |&c| c - p);
+    below.min(above)
 }
 
 /// The paper's candidates on one axis: `lo + i (hi - lo) / (N + 1)`, i = 1..N, each moved to the
 /// middle of the gap between the node's vertex coordinates around it (a position exactly on a
-/// coordinate takes the gap above it).
+/// coordinate takes the gap above it). A gap narrower than [`MIN_GAP`] of the extent is replaced
+/// by the nearest wide enough one.
 pub fn paper_positions(coords: &[f64], n: usize) -> Vec<f64> {
     let (Some(&lo), Some(&hi)) = (coords.first(), coords.last()) else {
         return Vec::new();
     };
+    let min = MIN_GAP * (hi - lo);
+    let gap = |j: usize| gap_mid(coords[j - 1], coords[j], min);
     let mut out = Vec::with_capacity(n);
     for i in 1..=n {
         let x = lo + (hi - lo) * (i as f64 / (n + 1) as f64);
@@ -109,10 +130,20 @@ pub fn paper_positions(coords: &[f64], n: usize) -> Vec<f64> {
         if j == 0 || j >= coords.len() {
             continue;
         }
-        if let Some(m) = gap_mid(coords[j - 1], coords[j]) {
+        // Gap j holds x; look outward, nearer side first, for one wide enough.
+        let found = (0..coords.len()).find_map(|d| {
+            let down = (j > d).then(|| gap(j - d)).flatten();
+            let up = (j + d < coords.len()).then(|| gap(j + d)).flatten();
+            match (down, up) {
+                (Some(a), Some(b)) => Some(if x - a <= b - x { a } else { b }),
+                (a, b) => a.or(b),
+            }
+        });
+        if let Some(m) = found {
             out.push(m);
         }
     }
+    out.sort_unstable_by(f64::total_cmp);
     out.dedup();
     out
 }
@@ -133,7 +164,7 @@ pub fn cost_positions(coords: &[f64], n: usize) -> Vec<f64> {
         let mut best: Option<(f64, f64, f64)> = None; // (width, -distance, mid)
         while j + 1 < coords.len() && coords[j] <= whi {
             let (a, b) = (coords[j], coords[j + 1]);
-            if let Some(m) = gap_mid(a, b) {
+            if let Some(m) = gap_mid(a, b, MIN_GAP * (hi - lo)) {
                 if (wlo..=whi).contains(&m) {
                     let key = (b - a, -(m - x).abs(), m);
                     if best.map_or(true, |bk| (key.0, key.1) > (bk.0, bk.1)) {
@@ -231,6 +262,7 @@ pub fn evaluate_axis(
                 right: acc[1] as u64,
                 cut: acc[2] as u64,
                 pieces: acc[3] as u64,
+                clearance: 0.0,
             }
         })
         .collect()
@@ -255,7 +287,11 @@ pub fn choose_plane(
                 Strategy::Paper => paper_positions(&coords[a], params.candidates),
                 Strategy::Cost => cost_positions(&coords[a], params.candidates),
             };
-            evaluate_axis(node_tets, tets, points, a, &pos)
+            let mut c = evaluate_axis(node_tets, tets, points, a, &pos);
+            for x in &mut c {
+                x.clearance = clearance(&coords[a], x.position);
+            }
+            c
         })
         .collect();
     let two_sided = |c: &Candidate| c.left > 0 && c.right > 0;
