@@ -59,6 +59,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
     let mut points_arr: Option<ArrayRef> = None;
     let mut conn: Option<ArrayRef> = None;
     let mut offs: Option<ArrayRef> = None;
+    let mut strips: Option<ArrayRef> = None;
     let mut saw_file = false;
     loop {
         let pos = reader.buffer_position();
@@ -109,7 +110,14 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                             at: pos,
                         });
                         if empty {
-                            finish(&section, current.take(), &mut points_arr, &mut conn, &mut offs)?;
+                            finish(
+                            &section,
+                            current.take(),
+                            &mut points_arr,
+                            &mut conn,
+                            &mut offs,
+                            &mut strips,
+                        )?;
                         }
                     }
                     _ => {}
@@ -123,7 +131,14 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
             Event::End(e) => {
                 let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
                 if name == "DataArray" {
-                    finish(&section, current.take(), &mut points_arr, &mut conn, &mut offs)?;
+                    finish(
+                            &section,
+                            current.take(),
+                            &mut points_arr,
+                            &mut conn,
+                            &mut offs,
+                            &mut strips,
+                        )?;
                 } else if name == section {
                     section.clear();
                 }
@@ -135,6 +150,14 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
     }
     if !saw_file {
         return Err(FormatError::at_byte(0, "not a VTK XML file (no <VTKFile>)"));
+    }
+    if let Some(st) = &strips {
+        if !values(st, &layout, bytes, appended)?.is_empty() {
+            return Err(FormatError::at_byte(
+                st.at,
+                "triangle strips are not supported in a body surface (write polygons)",
+            ));
+        }
     }
     let pts = points_arr.ok_or_else(|| FormatError::whole("no <Points> array"))?;
     if pts.components != 3 {
@@ -176,18 +199,14 @@ fn finish(
     points: &mut Option<ArrayRef>,
     conn: &mut Option<ArrayRef>,
     offs: &mut Option<ArrayRef>,
+    strips: &mut Option<ArrayRef>,
 ) -> Result<(), FormatError> {
     let Some(a) = arr else { return Ok(()) };
     match section {
         "Points" => *points = Some(a),
         "Polys" if a.name == "connectivity" => *conn = Some(a),
         "Polys" if a.name == "offsets" => *offs = Some(a),
-        "Strips" => {
-            return Err(FormatError::at_byte(
-                a.at,
-                "triangle strips are not supported in a body surface (write polygons)",
-            ))
-        }
+        "Strips" if a.name == "offsets" => *strips = Some(a),
         _ => {}
     }
     Ok(())
