@@ -48,20 +48,34 @@ fn surfaces_from_every_format_are_closed_and_agree() {
 
 #[test]
 fn broken_surfaces_name_file_and_edge() {
-    let e = scene::surface::read(&fixture("open.stl")).unwrap_err().to_string();
-    assert!(e.contains("open.stl") && e.contains("open") && e.contains("edge ("), "{e}");
-    let e = scene::surface::read(&fixture("flipped.obj")).unwrap_err().to_string();
+    let e = scene::surface::read(&fixture("open.stl"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("open.stl") && e.contains("open") && e.contains("edge ("),
+        "{e}"
+    );
+    let e = scene::surface::read(&fixture("flipped.obj"))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("flipped.obj") && e.contains("oriented"), "{e}");
 }
 
 fn parse_err(text: &str) -> String {
-    scene::parse(text, &fixture("x.toml")).unwrap_err().to_string()
+    scene::parse(text, &fixture("x.toml"))
+        .unwrap_err()
+        .to_string()
 }
 
 #[test]
 fn scene_errors_name_file_and_line() {
-    assert!(scene::parse("", Path::new("empty.toml")).unwrap().bodies.is_empty());
-    let e = parse_err("[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\ncolour = 3\n");
+    assert!(scene::parse("", Path::new("empty.toml"))
+        .unwrap()
+        .bodies
+        .is_empty());
+    let e = parse_err(
+        "[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\ncolour = 3\n",
+    );
     assert!(e.contains("x.toml: line 5") && e.contains("colour"), "{e}");
     let e = parse_err("\n[[body]]\nshape = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = -1.0\n");
     assert!(e.contains("line 5") && e.contains("radius"), "{e}");
@@ -69,18 +83,27 @@ fn scene_errors_name_file_and_line() {
     assert!(e.contains("line 2") && e.contains("blob"), "{e}");
     let e = parse_err("[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\n");
     assert!(e.contains("line 1") && e.contains("max"), "{e}");
-    let e = parse_err("[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\nradius = 2.0\n");
-    assert!(e.contains("line 5") && e.contains("does not take 'radius'"), "{e}");
+    let e = parse_err(
+        "[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\nradius = 2.0\n",
+    );
+    assert!(
+        e.contains("line 5") && e.contains("does not take 'radius'"),
+        "{e}"
+    );
     let mut nine = String::new();
     for i in 0..9 {
-        nine += &format!("[[body]]\nshape = \"sphere\"\ncenter = [{i}.0, 0.0, 0.0]\nradius = 1.0\n\n");
+        nine +=
+            &format!("[[body]]\nshape = \"sphere\"\ncenter = [{i}.0, 0.0, 0.0]\nradius = 1.0\n\n");
     }
     let e = parse_err(&nine);
     assert!(e.contains("line 41") && e.contains("at most 8"), "{e}");
     let e = parse_err("[[body]]\nshape = \"surface\"\nfile = \"missing.stl\"\n");
     assert!(e.contains("line 3") && e.contains("missing.stl"), "{e}");
     let e = parse_err("# an open surface\n[[body]]\nshape = \"surface\"\nfile = \"open.stl\"\n");
-    assert!(e.contains("x.toml: line 4") && e.contains("open.stl") && e.contains("edge"), "{e}");
+    assert!(
+        e.contains("x.toml: line 4") && e.contains("open.stl") && e.contains("edge"),
+        "{e}"
+    );
     let e = parse_err("[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\naction = \"transfer\"\n");
     assert!(e.contains("line 1") && e.contains("[body.transfer]"), "{e}");
     let e = parse_err("rule = \"xor\"\n");
@@ -140,7 +163,10 @@ fn uv_sphere(c: [f64; 3], r: f64, n: usize) -> scene::TriSurface {
             tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
     }
-    let text: String = pts.iter().map(|p| format!("v {} {} {}\n", p[0], p[1], p[2])).collect::<String>()
+    let text: String = pts
+        .iter()
+        .map(|p| format!("v {} {} {}\n", p[0], p[1], p[2]))
+        .collect::<String>()
         + &tris
             .iter()
             .map(|t| format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1))
@@ -177,7 +203,10 @@ fn tessellated_sphere_converges_to_the_analytic_one() {
                 hits.clear();
                 s.crossings(&o, &d, &mut hits);
                 hits.sort_by(f64::total_cmp);
-                assert!(hits.len() % 2 == 0, "odd crossings at pixel {px},{py}: {hits:?}");
+                assert!(
+                    hits.len() % 2 == 0,
+                    "odd crossings at pixel {px},{py}: {hits:?}"
+                );
                 let span = analytic.line_span(&o, &d);
                 // Rays near the silhouette may miss the polyhedron while hitting the sphere;
                 // compare the depths where both are hit.
@@ -275,7 +304,10 @@ fn surface_and_box_with_the_same_faces_classify_alike() {
     );
     let s = scene::parse(&scene_text, Path::new("t.toml")).unwrap();
     let codes = classify(&s, &mesh);
-    assert!(codes.iter().all(|&c| c == 0 || c == 3), "surface and box disagree");
+    assert!(
+        codes.iter().all(|&c| c == 0 || c == 3),
+        "surface and box disagree"
+    );
     assert_eq!(codes.iter().filter(|&&c| c == 3).count(), 6 * 3 * 3 * 2);
     // Pixel rays: the surface's crossings equal the box's, also through edges and vertices.
     let cam = Camera {

@@ -31,9 +31,10 @@ pub struct ClassifyArgs {
 }
 
 pub fn run(args: &ClassifyArgs) -> anyhow::Result<()> {
-    let grid = super::read_input(&args.input)?;
-    let mut mesh = TetMesh::from_grid(&grid).with_context(|| format!("{}", args.input.display()))?;
     let scene = scene::load(&args.scene)?;
+    let grid = super::read_input(&args.input)?;
+    let mut mesh =
+        TetMesh::from_grid(&grid).with_context(|| format!("{}", args.input.display()))?;
     let t0 = std::time::Instant::now();
     let codes = scene::classify::classify(&scene, &mesh);
     let classify_s = t0.elapsed().as_secs_f64();

@@ -108,8 +108,7 @@ fn tet_meets_polytope(
 
 fn tet_box(p: &[[f64; 3]; 4], min: &[f64; 3], max: &[f64; 3]) -> bool {
     // Quick accept: a tet vertex strictly inside the open box.
-    if p
-        .iter()
+    if p.iter()
         .any(|v| (0..3).all(|k| min[k] < v[k] && v[k] < max[k]))
         && orient(&p[0], &p[1], &p[2], &p[3]) != 0
     {
@@ -235,7 +234,9 @@ fn hull_within(pts: &mut [[f64; 2]], r: f64) -> bool {
         hull.push(pts[0]);
     }
     let o = [0.0, 0.0];
-    if hull.len() >= 3 && (0..hull.len()).all(|i| cross(&hull[i], &hull[(i + 1) % hull.len()], &o) >= 0.0) {
+    if hull.len() >= 3
+        && (0..hull.len()).all(|i| cross(&hull[i], &hull[(i + 1) % hull.len()], &o) >= 0.0)
+    {
         return true;
     }
     let seg = |a: &[f64; 2], b: &[f64; 2]| {
@@ -259,7 +260,10 @@ fn tet_frustum(p: &[[f64; 3]; 4], start: &[f64; 3], end: &[f64; 3], r0: f64, r1:
     }
     let axis = sub(end, start);
     let len2 = dot(&axis, &axis);
-    let s: Vec<f64> = p.iter().map(|x| dot(&sub(x, start), &axis) / len2).collect();
+    let s: Vec<f64> = p
+        .iter()
+        .map(|x| dot(&sub(x, start), &axis) / len2)
+        .collect();
     // The open slab 0 < s < 1; a cone's apex end is pulled in a hair so the central projection
     // stays finite (what is lost is a needle of zero radius).
     let (lo, hi) = (
@@ -331,9 +335,8 @@ fn tet_surface(p: &[[f64; 3]; 4], tb: &Aabb, s: &TriSurface) -> bool {
     let tri_edges = [[0usize, 1], [1, 2], [2, 0]];
     for t in &s.tris {
         let v = t.map(|i| s.points[i as usize]);
-        if (0..3).any(|k| {
-            v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k])
-        }) {
+        if (0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
+        {
             continue;
         }
         if tet_meets_polytope(p, &v, &tri_faces, &tri_edges) {
@@ -386,7 +389,11 @@ mod tests {
         // A box corner poking into the slanted face.
         assert!(tet_box(&UNIT, &[0.3, 0.3, 0.3], &[2.0, 2.0, 2.0]));
         // Just beyond the slanted face: (1/3,1/3,1/3) is on it.
-        assert!(!tet_box(&UNIT, &[1.0 / 3.0 + 1e-12, 1.0 / 3.0 + 1e-12, 1.0 / 3.0 + 1e-12], &[2.0; 3]));
+        assert!(!tet_box(
+            &UNIT,
+            &[1.0 / 3.0 + 1e-12, 1.0 / 3.0 + 1e-12, 1.0 / 3.0 + 1e-12],
+            &[2.0; 3]
+        ));
         // Box holding the tet, and a thin box through the middle with no tet vertex inside.
         assert!(tet_box(&UNIT, &[-1.0; 3], &[2.0; 3]));
         assert!(tet_box(&UNIT, &[0.1, -1.0, -1.0], &[0.2, 2.0, 2.0]));
@@ -401,12 +408,36 @@ mod tests {
         assert!(!cyl(0.5)); // tangent to x = 0
         assert!(cyl(0.51));
         // Cylinder along z through the tet's interior.
-        assert!(tet_frustum(&UNIT, &[0.1, 0.1, -5.0], &[0.1, 0.1, 5.0], 0.01, 0.01));
+        assert!(tet_frustum(
+            &UNIT,
+            &[0.1, 0.1, -5.0],
+            &[0.1, 0.1, 5.0],
+            0.01,
+            0.01
+        ));
         // Cylinder ending just below the tet (the slab excludes it).
-        assert!(!tet_frustum(&UNIT, &[0.1, 0.1, -5.0], &[0.1, 0.1, 0.0], 0.01, 0.01));
+        assert!(!tet_frustum(
+            &UNIT,
+            &[0.1, 0.1, -5.0],
+            &[0.1, 0.1, 0.0],
+            0.01,
+            0.01
+        ));
         // A cone whose apex pokes into the tet, and one whose wide end stays outside.
-        assert!(tet_frustum(&UNIT, &[0.1, 0.1, -2.0], &[0.1, 0.1, 0.5], 1.0, 0.0));
-        assert!(!tet_frustum(&UNIT, &[3.0, 3.0, 0.0], &[3.0, 3.0, 1.0], 1.0, 0.1));
+        assert!(tet_frustum(
+            &UNIT,
+            &[0.1, 0.1, -2.0],
+            &[0.1, 0.1, 0.5],
+            1.0,
+            0.0
+        ));
+        assert!(!tet_frustum(
+            &UNIT,
+            &[3.0, 3.0, 0.0],
+            &[3.0, 3.0, 1.0],
+            1.0,
+            0.1
+        ));
     }
 
     #[test]
@@ -421,7 +452,12 @@ mod tests {
         let far = UNIT.map(|v| [v[0] + 5.0, v[1], v[2]]);
         assert!(!tet_surface(&far, &Aabb::of_points(far.iter()), &s));
         // Touching along an edge only.
-        let edge = [[1.0, 1.0, 0.0], [2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [1.0, 1.0, 1.0]];
+        let edge = [
+            [1.0, 1.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [1.0, 2.0, 0.0],
+            [1.0, 1.0, 1.0],
+        ];
         assert!(!tet_surface(&edge, &Aabb::of_points(edge.iter()), &s));
         assert!(!tet_box(&edge, &[0.0; 3], &[1.0; 3]));
     }

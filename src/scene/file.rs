@@ -7,9 +7,7 @@ use formats::FormatError;
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::{
-    Action, Body, CameraSpec, Primitive, Rule, Scene, Shape, TransferSpec, MAX_BODIES,
-};
+use super::{Action, Body, CameraSpec, Primitive, Rule, Scene, Shape, TransferSpec, MAX_BODIES};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -94,7 +92,8 @@ fn line_of(text: &str, byte: usize) -> usize {
 /// Parses scene text; `path` names the file in errors and anchors relative surface and preset
 /// paths.
 pub fn parse(text: &str, path: &Path) -> Result<Scene, FormatError> {
-    let at = |byte: usize, msg: String| FormatError::at_line(line_of(text, byte), msg).with_file(path);
+    let at =
+        |byte: usize, msg: String| FormatError::at_line(line_of(text, byte), msg).with_file(path);
     let raw: RawScene = toml::from_str(text).map_err(|e| {
         let line = e.span().map_or(1, |s| line_of(text, s.start));
         FormatError::at_line(line, e.message().trim().to_string()).with_file(path)
@@ -149,19 +148,28 @@ fn camera(c: RawCamera, at: &At, pos: usize) -> Result<CameraSpec, FormatError> 
     }
     if let (Some(p), Some(f)) = (c.position, c.focal) {
         if p == f {
-            return Err(at(pos, "camera position and focal point are the same point".into()));
+            return Err(at(
+                pos,
+                "camera position and focal point are the same point".into(),
+            ));
         }
     }
     if let Some(a) = &c.view_angle {
         let v = *a.get_ref();
         if !(v > 0.0 && v < 180.0) {
-            return Err(at(a.span().start, format!("view_angle = {v}: must lie in (0, 180) degrees")));
+            return Err(at(
+                a.span().start,
+                format!("view_angle = {v}: must lie in (0, 180) degrees"),
+            ));
         }
     }
     if let Some(s) = &c.parallel_scale {
         let v = *s.get_ref();
         if !(v > 0.0 && v.is_finite()) {
-            return Err(at(s.span().start, format!("parallel_scale = {v}: must be positive")));
+            return Err(at(
+                s.span().start,
+                format!("parallel_scale = {v}: must be positive"),
+            ));
         }
     }
     Ok(CameraSpec {
@@ -187,7 +195,10 @@ fn transfer(t: RawTransfer, dir: &Path, at: &At, pos: usize) -> Result<TransferS
             ));
         }
         if p[0] < prev {
-            return Err(at(pos, format!("opacity point {p:?}: scalars must not decrease")));
+            return Err(at(
+                pos,
+                format!("opacity point {p:?}: scalars must not decrease"),
+            ));
         }
         prev = p[0];
     }
@@ -236,17 +247,21 @@ fn body(
         let v = v.ok_or_else(|| at(pos, format!("{who} needs {key} = [x, y, z]")))?;
         finite3(&v, key, at)
     };
-    let positive = |v: Option<Spanned<f64>>, key: &str, zero_ok: bool| -> Result<f64, FormatError> {
-        let v = v.ok_or_else(|| at(pos, format!("{who} needs {key} = r")))?;
-        let x = *v.get_ref();
-        if !(x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0))) {
-            return Err(at(
-                v.span().start,
-                format!("{who}: {key} = {x} must be {}", if zero_ok { "non-negative" } else { "positive" }),
-            ));
-        }
-        Ok(x)
-    };
+    let positive =
+        |v: Option<Spanned<f64>>, key: &str, zero_ok: bool| -> Result<f64, FormatError> {
+            let v = v.ok_or_else(|| at(pos, format!("{who} needs {key} = r")))?;
+            let x = *v.get_ref();
+            if !(x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0))) {
+                return Err(at(
+                    v.span().start,
+                    format!(
+                        "{who}: {key} = {x} must be {}",
+                        if zero_ok { "non-negative" } else { "positive" }
+                    ),
+                ));
+            }
+            Ok(x)
+        };
     // Keys that belong to other shapes are mistakes worth naming.
     let allowed: &[&str] = match b.shape {
         ShapeKind::Box => &["min", "max"],
@@ -262,7 +277,10 @@ fn body(
         ("radius", b.radius.as_ref().map(|v| v.span().start)),
         ("start", b.start.as_ref().map(|v| v.span().start)),
         ("end", b.end.as_ref().map(|v| v.span().start)),
-        ("start_radius", b.start_radius.as_ref().map(|v| v.span().start)),
+        (
+            "start_radius",
+            b.start_radius.as_ref().map(|v| v.span().start),
+        ),
         ("end_radius", b.end_radius.as_ref().map(|v| v.span().start)),
         ("file", b.file.as_ref().map(|v| v.span().start)),
     ];
@@ -271,7 +289,10 @@ fn body(
             if !allowed.contains(&key) {
                 return Err(at(
                     s,
-                    format!("{who} does not take '{key}' (it takes {})", allowed.join(", ")),
+                    format!(
+                        "{who} does not take '{key}' (it takes {})",
+                        allowed.join(", ")
+                    ),
                 ));
             }
         }
@@ -280,7 +301,10 @@ fn body(
         ShapeKind::Box => {
             let (min, max) = (need(b.min, "min")?, need(b.max, "max")?);
             if (0..3).any(|k| min[k] >= max[k]) {
-                return Err(at(pos, format!("{who}: max {max:?} must exceed min {min:?} on every axis")));
+                return Err(at(
+                    pos,
+                    format!("{who}: max {max:?} must exceed min {min:?} on every axis"),
+                ));
             }
             Shape::Primitive(Primitive::Box { min, max })
         }
@@ -307,9 +331,12 @@ fn body(
             Shape::Primitive(Primitive::Frustum { start, end, r0, r1 })
         }
         ShapeKind::Surface => {
-            let f = b
-                .file
-                .ok_or_else(|| at(pos, format!("{who} needs file = \"surface.stl|.obj|.vtk|.vtp\"")))?;
+            let f = b.file.ok_or_else(|| {
+                at(
+                    pos,
+                    format!("{who} needs file = \"surface.stl|.obj|.vtk|.vtp\""),
+                )
+            })?;
             let full: PathBuf = dir.join(f.get_ref());
             let surf = super::surface::read(&full)
                 .map_err(|e| at(f.span().start, format!("{who}: {e}")))?;

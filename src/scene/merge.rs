@@ -189,17 +189,31 @@ mod tests {
         // Pairing 010+011 and 111+101 first strands 001 and 110: four classes, the paper's bad
         // order; no tree order does worse than two here.
         let greedy = [
-            Class { value: 0b010, mask: 0b110 },
-            Class { value: 0b101, mask: 0b101 },
-            Class { value: 0b001, mask: 0b111 },
-            Class { value: 0b110, mask: 0b111 },
+            Class {
+                value: 0b010,
+                mask: 0b110,
+            },
+            Class {
+                value: 0b101,
+                mask: 0b101,
+            },
+            Class {
+                value: 0b001,
+                mask: 0b111,
+            },
+            Class {
+                value: 0b110,
+                mask: 0b111,
+            },
         ];
         assert_eq!(greedy.len(), 4);
         for c in codes {
             assert_eq!(greedy.iter().filter(|g| g.matches(c)).count(), 1);
         }
         let mut perm = vec![0, 1, 2];
-        permute(&mut perm, 0, &mut |o| assert!(merge_with_order(&codes, o).len() >= 2));
+        permute(&mut perm, 0, &mut |o| {
+            assert!(merge_with_order(&codes, o).len() >= 2)
+        });
         // 010, 011, 110, 111 -> X1X (the paper's second example).
         let m = merge(&[0b010, 0b011, 0b110, 0b111], 3);
         assert_eq!(patterns(&m, 3), vec!["X1X"]);
@@ -217,11 +231,18 @@ mod tests {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
             let bits = 1 + (seed >> 60) as usize % 5;
             let set = (seed >> 20) as u32;
-            let codes: Vec<u8> = (0..(1u32 << bits)).filter(|c| set >> c & 1 == 1).map(|c| c as u8).collect();
+            let codes: Vec<u8> = (0..(1u32 << bits))
+                .filter(|c| set >> c & 1 == 1)
+                .map(|c| c as u8)
+                .collect();
             let m = merge(&codes, bits);
             for c in 0..(1u32 << bits) as u8 {
                 let n = m.iter().filter(|k| k.matches(c)).count();
-                assert_eq!(n, usize::from(codes.contains(&c)), "codes {codes:?} classes {m:?} code {c}");
+                assert_eq!(
+                    n,
+                    usize::from(codes.contains(&c)),
+                    "codes {codes:?} classes {m:?} code {c}"
+                );
             }
         }
     }

@@ -55,10 +55,15 @@ pub fn footprint(b: &Aabb, cam: &Camera, width: u32, height: u32) -> Footprint {
             ]
         })
         .collect();
-    let proj: Vec<[f64; 3]> = corners.iter().map(|c| cam.project(c, width, height)).collect();
+    let proj: Vec<[f64; 3]> = corners
+        .iter()
+        .map(|c| cam.project(c, width, height))
+        .collect();
     let (zmin, zmax) = proj
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, c), p| (a.min(p[2]), c.max(p[2])));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, c), p| {
+            (a.min(p[2]), c.max(p[2]))
+        });
     let t_range = if cam.parallel {
         (zmin, zmax)
     } else {
@@ -144,7 +149,11 @@ impl RayRegions {
     pub fn pieces(&self, ta: f64, tb: f64, mut f: impl FnMut(f64, f64, u8)) {
         let mut i = self.depths.partition_point(|&d| d <= ta);
         let mut t = ta;
-        let mut code = if i == 0 { self.start } else { self.codes[i - 1] };
+        let mut code = if i == 0 {
+            self.start
+        } else {
+            self.codes[i - 1]
+        };
         while i < self.depths.len() && self.depths[i] < tb {
             if self.depths[i] > t {
                 f(t, self.depths[i], code);
@@ -184,7 +193,12 @@ impl<'a> View<'a> {
     /// Region codes along the ray through pixel coordinates `(px, py)`.
     pub fn pixel(&self, px: f64, py: f64, out: &mut RayRegions) {
         let (o, d) = self.camera.pixel_ray(px, py, self.width, self.height);
-        self.ray(&o, &d, |i| !self.culling || self.footprints[i].covers(px, py), out);
+        self.ray(
+            &o,
+            &d,
+            |i| !self.culling || self.footprints[i].covers(px, py),
+            out,
+        );
     }
 
     /// Region codes along any ray `o + t d`, `t >= 0`, testing the bodies `active` accepts.
@@ -213,7 +227,8 @@ impl<'a> View<'a> {
                 out.scratch.push((t, i as u8));
             }
         }
-        out.scratch.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out.scratch
+            .sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut code = out.start;
         for &(t, i) in &out.scratch {
             code ^= 1 << i;

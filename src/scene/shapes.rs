@@ -207,7 +207,7 @@ fn frustum_span(
     let dr = r1 - r0;
     let rc = r0 + dr * s0; // radius at t = 0
     let rt = dr * ds; // radius change per unit t
-    // q(t) = |wp + t dp|^2 - (rc + t rt)^2 <= 0
+                      // q(t) = |wp + t dp|^2 - (rc + t rt)^2 <= 0
     let qa = dot(&dp, &dp) - rt * rt;
     let qb = dot(&wp, &dp) - rc * rt; // half the linear coefficient
     let qc = dot(&wp, &wp) - rc * rc;
@@ -356,7 +356,9 @@ mod tests {
         ];
         let mut seed = 12345u64;
         let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         };
         for b in &bodies {
@@ -369,8 +371,12 @@ mod tests {
                     let p = [0, 1, 2].map(|k| o[k] + t * d[k]);
                     let inside = b.contains(&p);
                     let in_span = span.is_some_and(|(a, c)| a <= t && t <= c);
-                    let near = span.is_some_and(|(a, c)| (t - a).abs() < 1e-9 || (t - c).abs() < 1e-9);
-                    assert!(inside == in_span || near, "{b:?} o {o:?} d {d:?} t {t} span {span:?}");
+                    let near =
+                        span.is_some_and(|(a, c)| (t - a).abs() < 1e-9 || (t - c).abs() < 1e-9);
+                    assert!(
+                        inside == in_span || near,
+                        "{b:?} o {o:?} d {d:?} t {t} span {span:?}"
+                    );
                     if inside {
                         let bb = b.bounds();
                         assert!(bb.contains(&p));

@@ -102,7 +102,9 @@ impl TriSurface {
             }
         }
         if tris.is_empty() {
-            return Err(FormatError::whole("no triangles: a body needs a closed surface"));
+            return Err(FormatError::whole(
+                "no triangles: a body needs a closed surface",
+            ));
         }
         check_closed(&points, &tris)?;
         let bounds = Aabb::of_points(points.iter());
@@ -297,5 +299,69 @@ pub(crate) mod tests {
         raw.polys[0].reverse();
         let e = TriSurface::from_raw(Path::new("flip"), raw).unwrap_err();
         assert!(e.to_string().contains("orient"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod reader_tests {
+    use super::*;
+
+    fn read_text(name: &str, text: &str) -> Result<TriSurface, FormatError> {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        read(&p)
+    }
+
+    const TET_OBJ: &str =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+    #[test]
+    fn each_reader_reads_a_tetrahedron_and_names_bad_lines() {
+        let s = read_text("t.obj", TET_OBJ).unwrap();
+        assert_eq!(s.tris.len(), 4);
+        assert!(s.contains(&[0.1, 0.1, 0.1]));
+        let vtk42 = "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0\n0 1 0 0 0 1\nPOLYGONS 4 16\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+        assert_eq!(read_text("t.vtk", vtk42).unwrap().tris, s.tris);
+        let bad = vtk42.replace("0 1 0 0 0 1", "0 1 0 0 zero 1");
+        let e = read_text("t.vtk", &bad).unwrap_err().to_string();
+        assert!(e.contains("line 7") && e.contains("zero"), "{e}");
+        let e = read_text("t.obj", "v 0 0 0\nf 1 2 3\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2"), "{e}");
+        let e = read_text(
+            "t.stl",
+            "solid x\nfacet normal 0 0 0\nouter loop\nvertex 0 0\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("line 4"), "{e}");
+        let e = read_text("t.ply", "").unwrap_err().to_string();
+        assert!(e.contains("t.ply") && e.contains(".stl"), "{e}");
+        // A binary STL of the same tetrahedron.
+        let mut b = vec![0u8; 80];
+        b.extend_from_slice(&4u32.to_le_bytes());
+        let p = [
+            [0.0f32, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        for t in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+            b.extend_from_slice(&[0u8; 12]);
+            for v in t {
+                for x in p[v] {
+                    b.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            b.extend_from_slice(&[0u8; 2]);
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.stl");
+        std::fs::write(&path, &b).unwrap();
+        let st = read(&path).unwrap();
+        assert_eq!(st.tris.len(), 4);
+        assert!(st.contains(&[0.1, 0.1, 0.1]) && !st.contains(&[0.5, 0.5, 0.5]));
     }
 }

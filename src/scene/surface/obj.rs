@@ -21,9 +21,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                     let w = words.next().ok_or_else(|| {
                         FormatError::at_line(line_no, "'v' needs three coordinates")
                     })?;
-                    *x = w.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                        FormatError::at_line(line_no, format!("'{w}' is not a finite number"))
-                    })?;
+                    *x = w
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            FormatError::at_line(line_no, format!("'{w}' is not a finite number"))
+                        })?;
                 }
                 points.push(p);
             }
@@ -45,7 +49,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                     ids.push(id as u32);
                 }
                 if ids.len() < 3 {
-                    return Err(FormatError::at_line(line_no, "a face needs at least 3 vertices"));
+                    return Err(FormatError::at_line(
+                        line_no,
+                        "a face needs at least 3 vertices",
+                    ));
                 }
                 polys.push(ids);
             }

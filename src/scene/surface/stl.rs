@@ -69,23 +69,33 @@ fn read_ascii(bytes: &[u8]) -> Result<RawSurface, FormatError> {
             }
             "vertex" => {
                 let Some((_, ids)) = in_loop.as_mut() else {
-                    return Err(FormatError::at_line(line_no, "'vertex' outside 'outer loop'"));
+                    return Err(FormatError::at_line(
+                        line_no,
+                        "'vertex' outside 'outer loop'",
+                    ));
                 };
                 let mut p = [0.0; 3];
                 for x in p.iter_mut() {
                     let w = words.next().ok_or_else(|| {
                         FormatError::at_line(line_no, "'vertex' needs three coordinates")
                     })?;
-                    *x = w.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                        FormatError::at_line(line_no, format!("'{w}' is not a finite number"))
-                    })?;
+                    *x = w
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            FormatError::at_line(line_no, format!("'{w}' is not a finite number"))
+                        })?;
                 }
                 ids.push(points.len() as u32);
                 points.push(p);
             }
             "endloop" => {
                 let Some((start, ids)) = in_loop.take() else {
-                    return Err(FormatError::at_line(line_no, "'endloop' without 'outer loop'"));
+                    return Err(FormatError::at_line(
+                        line_no,
+                        "'endloop' without 'outer loop'",
+                    ));
                 };
                 if ids.len() < 3 {
                     return Err(FormatError::at_line(
@@ -104,7 +114,10 @@ fn read_ascii(bytes: &[u8]) -> Result<RawSurface, FormatError> {
         }
     }
     if let Some((start, _)) = in_loop {
-        return Err(FormatError::at_line(start, "facet loop never closed (no 'endloop')"));
+        return Err(FormatError::at_line(
+            start,
+            "facet loop never closed (no 'endloop')",
+        ));
     }
     Ok(RawSurface { points, polys })
 }

@@ -32,7 +32,9 @@ impl<'a> Cursor<'a> {
                 .map_or(self.bytes.len(), |i| start + i);
             self.pos = (end + 1).min(self.bytes.len()).max(end);
             self.line += 1;
-            let s = std::str::from_utf8(&self.bytes[start..end]).unwrap_or("").trim();
+            let s = std::str::from_utf8(&self.bytes[start..end])
+                .unwrap_or("")
+                .trim();
             if !s.is_empty() {
                 return Some(s);
             }
@@ -41,22 +43,20 @@ impl<'a> Cursor<'a> {
     }
 
     fn ascii_token(&mut self) -> Option<&'a str> {
-        loop {
-            while self.pos < self.bytes.len() && self.bytes[self.pos].is_ascii_whitespace() {
-                if self.bytes[self.pos] == b'\n' {
-                    self.line += 1;
-                }
-                self.pos += 1;
+        while self.pos < self.bytes.len() && self.bytes[self.pos].is_ascii_whitespace() {
+            if self.bytes[self.pos] == b'\n' {
+                self.line += 1;
             }
-            if self.pos >= self.bytes.len() {
-                return None;
-            }
-            let start = self.pos;
-            while self.pos < self.bytes.len() && !self.bytes[self.pos].is_ascii_whitespace() {
-                self.pos += 1;
-            }
-            return std::str::from_utf8(&self.bytes[start..self.pos]).ok();
+            self.pos += 1;
         }
+        if self.pos >= self.bytes.len() {
+            return None;
+        }
+        let start = self.pos;
+        while self.pos < self.bytes.len() && !self.bytes[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        std::str::from_utf8(&self.bytes[start..self.pos]).ok()
     }
 
     /// `n` numbers of legacy type `ty`, as f64.
@@ -70,7 +70,9 @@ impl<'a> Cursor<'a> {
         };
         let mut out = Vec::with_capacity(n.min(1 << 24));
         if self.binary {
-            let need = n.checked_mul(size).ok_or_else(|| self.err("count too large"))?;
+            let need = n
+                .checked_mul(size)
+                .ok_or_else(|| self.err("count too large"))?;
             if self.pos + need > self.bytes.len() {
                 return Err(self.err(format!(
                     "{n} binary {ty} values need {need} bytes; the file ends first"
@@ -83,7 +85,9 @@ impl<'a> Cursor<'a> {
                     "double" => f64::from_be_bytes(b.try_into().unwrap_or([0; 8])),
                     "int" => i32::from_be_bytes([b[0], b[1], b[2], b[3]]) as f64,
                     "unsigned_int" => u32::from_be_bytes([b[0], b[1], b[2], b[3]]) as f64,
-                    "long" | "vtktypeint64" => i64::from_be_bytes(b.try_into().unwrap_or([0; 8])) as f64,
+                    "long" | "vtktypeint64" => {
+                        i64::from_be_bytes(b.try_into().unwrap_or([0; 8])) as f64
+                    }
                     "unsigned_long" | "vtktypeuint64" => {
                         u64::from_be_bytes(b.try_into().unwrap_or([0; 8])) as f64
                     }
@@ -97,13 +101,16 @@ impl<'a> Cursor<'a> {
             self.pos += need;
         } else {
             for _ in 0..n {
-                let line = self.line;
-                let t = self
-                    .ascii_token()
-                    .ok_or_else(|| self.err(format!("expected {n} values of type {ty}; the file ends first")))?;
-                let v: f64 = t.parse().map_err(|_| {
-                    FormatError::at_line(line.max(1), format!("'{t}' is not a number"))
+                let t = self.ascii_token().ok_or_else(|| {
+                    self.err(format!(
+                        "expected {n} values of type {ty}; the file ends first"
+                    ))
                 })?;
+                // Newlines consumed so far, plus one: the token's own line.
+                let line = self.line + 1;
+                let v: f64 = t
+                    .parse()
+                    .map_err(|_| FormatError::at_line(line, format!("'{t}' is not a number")))?;
                 out.push(v);
             }
         }
@@ -118,9 +125,7 @@ fn count(cur: &Cursor, w: Option<&str>, what: &str) -> Result<usize, FormatError
 
 fn id(cur: &Cursor, v: f64, n_points: usize) -> Result<u32, FormatError> {
     if v < 0.0 || v.fract() != 0.0 || v as usize >= n_points {
-        return Err(cur.err(format!(
-            "point id {v} out of range ({n_points} points)"
-        )));
+        return Err(cur.err(format!("point id {v} out of range ({n_points} points)")));
     }
     Ok(v as u32)
 }
@@ -134,7 +139,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
     };
     let head = cur.next_line().unwrap_or("");
     if !head.starts_with("# vtk DataFile") {
-        return Err(FormatError::at_line(1, "not a legacy VTK file (no '# vtk DataFile' header)"));
+        return Err(FormatError::at_line(
+            1,
+            "not a legacy VTK file (no '# vtk DataFile' header)",
+        ));
     }
     let _title = cur.next_line();
     match cur.next_line().map(str::to_ascii_uppercase).as_deref() {
@@ -144,10 +152,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
             return Err(cur.err(format!("expected ASCII or BINARY, found {other:?}")));
         }
     }
-    let binary_file = bytes
-        .split(|&b| b == b'\n')
-        .nth(2)
-        .is_some_and(|l| String::from_utf8_lossy(l).trim().eq_ignore_ascii_case("BINARY"));
+    let binary_file = bytes.split(|&b| b == b'\n').nth(2).is_some_and(|l| {
+        String::from_utf8_lossy(l)
+            .trim()
+            .eq_ignore_ascii_case("BINARY")
+    });
     let ds = cur.next_line().unwrap_or("");
     let mut w = ds.split_whitespace();
     if w.next().map(str::to_ascii_uppercase).as_deref() != Some("DATASET")
@@ -223,7 +232,11 @@ fn read_cells(
     let save = (cur.pos, cur.line);
     let next = cur.next_line().unwrap_or("");
     if next.to_ascii_uppercase().starts_with("OFFSETS") {
-        let ty = next.split_whitespace().nth(1).unwrap_or("vtktypeint64").to_string();
+        let ty = next
+            .split_whitespace()
+            .nth(1)
+            .unwrap_or("vtktypeint64")
+            .to_string();
         cur.binary = binary;
         let offsets = cur.values(a, &ty)?;
         cur.binary = false;
@@ -231,7 +244,11 @@ fn read_cells(
         if !conn_line.to_ascii_uppercase().starts_with("CONNECTIVITY") {
             return Err(cur.err(format!("expected CONNECTIVITY, found '{conn_line}'")));
         }
-        let ty = conn_line.split_whitespace().nth(1).unwrap_or("vtktypeint64").to_string();
+        let ty = conn_line
+            .split_whitespace()
+            .nth(1)
+            .unwrap_or("vtktypeint64")
+            .to_string();
         cur.binary = binary;
         let conn = cur.values(b, &ty)?;
         cur.binary = false;
@@ -253,7 +270,9 @@ fn read_cells(
     let mut cells = Vec::with_capacity(a);
     let mut i = 0;
     for _ in 0..a {
-        let n = *flat.get(i).ok_or_else(|| cur.err("cell list shorter than its size"))? as usize;
+        let n = *flat
+            .get(i)
+            .ok_or_else(|| cur.err("cell list shorter than its size"))? as usize;
         if i + 1 + n > flat.len() {
             return Err(cur.err("cell list shorter than its size"));
         }

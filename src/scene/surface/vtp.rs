@@ -41,8 +41,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                 .iter()
                 .position(|&b| b == b'_')
                 .map(|i| p + i + 1)
-                .ok_or_else(|| FormatError::at_byte(p as u64, "<AppendedData> without '_' marker"))?;
-            let tag_end = bytes[p..].iter().position(|&b| b == b'>').map_or(p, |i| p + i);
+                .ok_or_else(|| {
+                    FormatError::at_byte(p as u64, "<AppendedData> without '_' marker")
+                })?;
+            let tag_end = bytes[p..]
+                .iter()
+                .position(|&b| b == b'>')
+                .map_or(p, |i| p + i);
             let encoding = String::from_utf8_lossy(&bytes[p..tag_end]).contains("base64");
             (&bytes[..p], Some((start, encoding)))
         }
@@ -81,7 +86,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                             ));
                         }
                         if attr(e, "byte_order").is_some_and(|b| b == "BigEndian") {
-                            return Err(FormatError::at_byte(pos, "big-endian .vtp is not supported"));
+                            return Err(FormatError::at_byte(
+                                pos,
+                                "big-endian .vtp is not supported",
+                            ));
                         }
                         layout.header64 = attr(e, "header_type").is_some_and(|h| h == "UInt64");
                         match attr(e, "compressor").as_deref() {
@@ -111,13 +119,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                         });
                         if empty {
                             finish(
-                            &section,
-                            current.take(),
-                            &mut points_arr,
-                            &mut conn,
-                            &mut offs,
-                            &mut strips,
-                        )?;
+                                &section,
+                                current.take(),
+                                &mut points_arr,
+                                &mut conn,
+                                &mut offs,
+                                &mut strips,
+                            )?;
                         }
                     }
                     _ => {}
@@ -132,13 +140,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                 let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
                 if name == "DataArray" {
                     finish(
-                            &section,
-                            current.take(),
-                            &mut points_arr,
-                            &mut conn,
-                            &mut offs,
-                            &mut strips,
-                        )?;
+                        &section,
+                        current.take(),
+                        &mut points_arr,
+                        &mut conn,
+                        &mut offs,
+                        &mut strips,
+                    )?;
                 } else if name == section {
                     section.clear();
                 }
@@ -166,7 +174,9 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
     let pv = values(&pts, &layout, bytes, appended)?;
     let points: Vec<[f64; 3]> = pv.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let (Some(conn), Some(offs)) = (conn, offs) else {
-        return Err(FormatError::whole("no <Polys> with connectivity and offsets arrays"));
+        return Err(FormatError::whole(
+            "no <Polys> with connectivity and offsets arrays",
+        ));
     };
     let cv = values(&conn, &layout, bytes, appended)?;
     let ov = values(&offs, &layout, bytes, appended)?;
@@ -175,7 +185,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
     for (i, &o) in ov.iter().enumerate() {
         let o = o as usize;
         if o < prev || o > cv.len() {
-            return Err(FormatError::in_array("offsets", format!("offset {i} = {o} out of range")));
+            return Err(FormatError::in_array(
+                "offsets",
+                format!("offset {i} = {o} out of range"),
+            ));
         }
         let mut ids = Vec::with_capacity(o - prev);
         for &v in &cv[prev..o] {
@@ -251,7 +264,9 @@ fn decode_block(src: &[u8], base64: bool, layout: &Layout) -> Result<Vec<u8>, St
             v.truncate(n);
             Ok(v)
         } else {
-            src.get(from..from + n).map(<[u8]>::to_vec).ok_or_else(|| "data ends early".into())
+            src.get(from..from + n)
+                .map(<[u8]>::to_vec)
+                .ok_or_else(|| "data ends early".into())
         }
     };
     if !layout.zlib {
@@ -285,23 +300,33 @@ fn values(
     file: &[u8],
     appended: Option<(usize, bool)>,
 ) -> Result<Vec<f64>, FormatError> {
-    let err = |m: String| FormatError::in_array(if a.name.is_empty() { "Points" } else { &a.name }, m);
+    let err =
+        |m: String| FormatError::in_array(if a.name.is_empty() { "Points" } else { &a.name }, m);
     if a.format == "ascii" {
         return a
             .text
             .split_whitespace()
-            .map(|t| t.parse::<f64>().map_err(|_| err(format!("'{t}' is not a number"))))
+            .map(|t| {
+                t.parse::<f64>()
+                    .map_err(|_| err(format!("'{t}' is not a number")))
+            })
             .collect();
     }
     let bytes = match a.format.as_str() {
         "binary" => {
-            let text: Vec<u8> = a.text.bytes().filter(|b| !b.is_ascii_whitespace()).collect();
+            let text: Vec<u8> = a
+                .text
+                .bytes()
+                .filter(|b| !b.is_ascii_whitespace())
+                .collect();
             decode_block(&text, true, layout).map_err(err)?
         }
         "appended" => {
             let (start, enc) =
                 appended.ok_or_else(|| err("format=\"appended\" but no <AppendedData>".into()))?;
-            let src = file.get(start + a.offset..).ok_or_else(|| err("offset past the end".into()))?;
+            let src = file
+                .get(start + a.offset..)
+                .ok_or_else(|| err("offset past the end".into()))?;
             decode_block(src, enc, layout).map_err(err)?
         }
         other => return Err(err(format!("unknown format \"{other}\""))),
@@ -314,8 +339,12 @@ fn values(
         "Float64" => conv(8, &|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]))),
         "Int32" => conv(4, &|c| i32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64),
         "UInt32" => conv(4, &|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64),
-        "Int64" => conv(8, &|c| i64::from_le_bytes(c.try_into().unwrap_or([0; 8])) as f64),
-        "UInt64" => conv(8, &|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])) as f64),
+        "Int64" => conv(8, &|c| {
+            i64::from_le_bytes(c.try_into().unwrap_or([0; 8])) as f64
+        }),
+        "UInt64" => conv(8, &|c| {
+            u64::from_le_bytes(c.try_into().unwrap_or([0; 8])) as f64
+        }),
         "Int16" => conv(2, &|c| i16::from_le_bytes([c[0], c[1]]) as f64),
         "UInt16" => conv(2, &|c| u16::from_le_bytes([c[0], c[1]]) as f64),
         "Int8" => conv(1, &|c| c[0] as i8 as f64),
