@@ -10,6 +10,8 @@ mixed.vtu / mixed.vtk (legacy 5.1 ascii) / mixed_42.vtk (legacy 4.2 binary): two
   Point data: temperature (Float64), velocity (Float32 x3, component names), node_label (Int32).
   Cell data: material (Int32), cell_weight (Float64), flags (UInt8). Field data: a string array and
   a Float64 time value.
+prisms.vtu: two stacked pentagonal prisms, two stacked hexagonal prisms and two triquadratic
+  hexahedra sharing a face (27 nodes each, on a 0.5 lattice), with a point and a cell array.
 quadratic_tets.vtu: a 3 x 3 x 3 cube grid cut into 6 tets each, each tet made a VTK_QUADRATIC_TETRA
   by shared mid-edge nodes (straight edges), with a quadratic point field and a cell id array.
 Faces are planar so that any triangulation has the same volume as VTK's.
@@ -233,6 +235,36 @@ def quadratic():
     return g
 
 
+def prisms():
+    import math
+    b = Builder()
+    part = []
+    for n, x0 in ((5, 0.0), (6, 3.0)):
+        ring = [(x0 + math.cos(2 * math.pi * i / n), math.sin(2 * math.pi * i / n)) for i in range(n)]
+        for z in (0.0, 1.0):
+            ids = [b.point((x, y, z)) for x, y in ring] + [b.point((x, y, z + 1.0)) for x, y in ring]
+            b.cells.append((vtk.VTK_PENTAGONAL_PRISM if n == 5 else vtk.VTK_HEXAGONAL_PRISM, ids))
+            part.append(n)
+    tq = vtk.vtkTriQuadraticHexahedron()
+    pc = tq.GetParametricCoords()
+    for x0 in (5.0, 6.0):
+        ids = [b.point((x0 + pc[3 * i], pc[3 * i + 1], pc[3 * i + 2])) for i in range(27)]
+        b.cells.append((vtk.VTK_TRIQUADRATIC_HEXAHEDRON, ids))
+        part.append(27)
+    g = to_grid(b)
+    f = vtk.vtkDoubleArray()
+    f.SetName("x2")
+    for p in b.pts:
+        f.InsertNextValue(p[0] * p[0] - p[1] + 0.5 * p[2])
+    g.GetPointData().AddArray(f)
+    c = vtk.vtkIntArray()
+    c.SetName("part")
+    for v in part:
+        c.InsertNextValue(v)
+    g.GetCellData().AddArray(c)
+    return g
+
+
 def write_xml(g, path, raw=False):
     w = vtk.vtkXMLUnstructuredGridWriter()
     w.SetFileName(path)
@@ -265,6 +297,7 @@ def main():
     write_xml(g, os.path.join(OUT, "mixed.vtu"))
     write_legacy(g, os.path.join(OUT, "mixed.vtk"), 51, False)
     write_legacy(g, os.path.join(OUT, "mixed_42.vtk"), 42, True)
+    write_xml(prisms(), os.path.join(OUT, "prisms.vtu"))
     q = quadratic()
     write_xml(q, os.path.join(OUT, "quadratic_tets.vtu"), raw=True)
     for name in sorted(os.listdir(OUT)):

@@ -17,7 +17,9 @@ type (VTK XML names: Int8 .. Float64, String), components, component names, tupl
           counted in `nonfinite`), for a tolerance comparison where bits may legitimately differ.
 --volume adds `volume`: the sum of the signed volumes vtkCellSizeFilter gives for 3-D cells (VTK's
 own parametric wedge counts as negative), `abs_volume`, the sum of their absolute values,
-`volume_cells`, how many 3-D cells it summed, and `min_cell_volume`.
+`volume_cells`, how many 3-D cells it summed, `min_cell_volume`, and `tri_volume`: the volume of
+VTK's own tetrahedralization (vtkDataSetTriangleFilter), which also covers the cells
+vtkCellSizeFilter measures as 0 (triquadratic hexahedra).
 Exit status 2 with a message on stderr when VTK cannot read the file.
 """
 import json
@@ -195,6 +197,20 @@ def check(path, volume):
         out["abs_volume"] = jfloat(np.abs(vols[solid]).sum()) if solid.any() else 0.0
         out["volume_cells"] = int(solid.sum())
         out["min_cell_volume"] = jfloat(vols[solid].min()) if solid.any() else None
+        # VTK's own tetrahedralization, for cells vtkCellSizeFilter gives 0 (triquadratic ones).
+        t = vtk.vtkDataSetTriangleFilter()
+        t.SetInputData(grid)
+        t.TetrahedraOnlyOn()
+        t.Update()
+        f = vtk.vtkCellSizeFilter()
+        f.SetInputData(t.GetOutput())
+        f.ComputeVertexCountOff()
+        f.ComputeLengthOff()
+        f.ComputeAreaOff()
+        f.ComputeVolumeOn()
+        f.Update()
+        tv = f.GetOutput().GetCellData().GetArray("Volume")
+        out["tri_volume"] = jfloat(np.abs(numpy_support.vtk_to_numpy(tv)).sum()) if tv else 0.0
     return out
 
 

@@ -16,6 +16,10 @@
 //! children fail that (a warped or non-convex cell), the cell is filled from a new centre point
 //! (the mean of its vertices) instead, over the same face triangles, so conformity is kept; if that
 //! fails too, the cell is reported as impossible to split.
+//!
+//! Cells written with repeated point ids (a hexahedron collapsed into a wedge or pyramid, as some
+//! FEM codes write them) work too: fan triangles with a repeated id are dropped, which leaves
+//! exactly the collapsed cell's faces.
 
 use crate::geom::orient3d;
 
@@ -152,8 +156,17 @@ pub fn fan_from_min(face: &[i64], out: &mut Vec<[i64; 3]>) {
         return;
     };
     for k in 1..n.saturating_sub(1) {
-        out.push([face[m], face[(m + k) % n], face[(m + k + 1) % n]]);
+        let t = [face[m], face[(m + k) % n], face[(m + k + 1) % n]];
+        if !degenerate(&t) {
+            out.push(t);
+        }
     }
+}
+
+/// A triangle with a repeated point id: what a collapsed face (a hexahedron written with repeated
+/// nodes for a wedge, say) leaves in a fan. It has no area and no neighbour needs it.
+fn degenerate(t: &[i64; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
 }
 
 /// Why a cell could not be split.
@@ -272,7 +285,7 @@ pub fn split_table(
         let m = (0..k).min_by_key(|&j| ids[f[j]]).unwrap_or(0);
         for j in 1..k.saturating_sub(1) {
             tris[n] = [ids[f[m]], ids[f[(m + j) % k]], ids[f[(m + j + 1) % k]]];
-            n += 1;
+            n += !degenerate(&tris[n]) as usize;
         }
     }
     split_tris(&tris[..n], pos, round)

@@ -426,3 +426,38 @@ fn polyhedron_and_triquadratic_hex() {
         .sum();
     assert!((vol - 1.0).abs() < 1e-14);
 }
+
+#[test]
+fn collapsed_hexahedra_are_split_like_the_cell_they_stand_for() {
+    let cube = vec![
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [1., 1., 0.],
+        [0., 1., 0.],
+        [0., 0., 1.],
+        [1., 0., 1.],
+        [1., 1., 1.],
+        [0., 1., 1.],
+    ];
+    // Nodes 3 = 2 and 7 = 6: the wedge 0-1-2 / 4-5-6, volume 1/2. Nodes 4..7 = 4: a pyramid, 1/3.
+    for (ids, volume, tets) in [
+        (vec![0i64, 1, 2, 2, 4, 5, 6, 6], 0.5, 3),
+        (vec![0i64, 1, 2, 3, 4, 4, 4, 4], 1.0 / 3.0, 2),
+    ] {
+        let g = grid_of(cube.clone(), &[(ct::HEXAHEDRON, &ids)]);
+        let (t, r) = tetrahedralize(&g, false).unwrap();
+        assert_eq!(t.num_cells(), tets, "{ids:?}");
+        assert_eq!(r.centre_points, 0);
+        let p = t.points_f64();
+        let v: f64 = (0..t.num_cells())
+            .map(|i| {
+                let c = t.cells.cell(i);
+                let q: Vec<_> = c.iter().map(|&v| p[v as usize]).collect();
+                let v = tet_volume(&q[0], &q[1], &q[2], &q[3]);
+                assert!(v > 0.0);
+                v
+            })
+            .sum();
+        assert!((v - volume).abs() < 1e-15, "{ids:?}: {v}");
+    }
+}
