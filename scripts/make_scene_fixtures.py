@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes fixtures/scenes/ with VTK 9.1: closed body surfaces in every format a scene reads, two
+"""Writes fixtures/scenes/ (surfaces in fixtures/scenes/surfaces/) with VTK 9.1: closed body surfaces in every format a scene reads, two
 broken ones for the error tests, and a small tet mesh (a Delaunay-tetrahedralized cube) to
 classify.
 
@@ -11,7 +11,7 @@ sphere.vtp       VTK XML PolyData, VTK's default (appended raw, zlib-compressed)
 sphere_ascii.vtp VTK XML PolyData in ascii
 open.stl         the cube with one face missing (must be refused: open surface)
 flipped.obj      the cube with one triangle reversed (must be refused: inconsistent orientation)
-cube_mesh.vtu    tets of a 5 x 5 x 5 lattice in [0, 1]^3 (vtkDelaunay3D), point data `scalar`
+cube_mesh.vtk    tets (legacy VTK) of a 5 x 5 x 5 lattice in [0, 1]^3 (vtkDelaunay3D), point data `scalar`
                  (x + y + z) and cell data `cell_id`
 """
 import os
@@ -19,7 +19,7 @@ import os
 import vtk
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fixtures", "scenes")
-os.makedirs(OUT, exist_ok=True)
+os.makedirs(os.path.join(OUT, "surfaces"), exist_ok=True)
 
 
 def tri(src):
@@ -30,7 +30,8 @@ def tri(src):
 
 
 def out(name):
-    return os.path.join(OUT, name)
+    """Surfaces go to surfaces/ (polydata: not meshes the unstructured readers must accept)."""
+    return os.path.join(OUT, name if name.endswith(".vtk") and "mesh" in name else os.path.join("surfaces", name))
 
 
 sphere = vtk.vtkSphereSource()
@@ -137,7 +138,7 @@ cid.SetName("cell_id")
 for i in range(grid.GetNumberOfCells()):
     cid.InsertNextValue(i)
 grid.GetCellData().AddArray(cid)
-w = vtk.vtkXMLUnstructuredGridWriter()
+w = vtk.vtkUnstructuredGridWriter()
 w.SetInputData(grid)
-w.SetFileName(out("cube_mesh.vtu"))
+w.SetFileName(out("cube_mesh.vtk"))
 w.Write()

@@ -9,7 +9,7 @@ use tetkit::scene::{self, classify::classify, ray, Primitive, Shape};
 
 fn fixture(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures/scenes")
+        .join("fixtures/scenes/surfaces")
         .join(rel)
 }
 
@@ -122,8 +122,8 @@ fn the_issue_form_and_a_full_scene_parse() {
     )
     .unwrap();
     assert_eq!(s.bodies.len(), 1);
-    let text = std::fs::read_to_string(fixture("example.toml")).unwrap();
-    let s = scene::parse(&text, &fixture("example.toml")).unwrap();
+    let text = std::fs::read_to_string(fixture("../example.toml")).unwrap();
+    let s = scene::parse(&text, &fixture("../example.toml")).unwrap();
     assert_eq!(s.bodies.len(), 4);
     assert_eq!(s.rule, scene::Rule::Precedence);
     assert!(s.camera.position.is_some() && s.transfer.is_some());
