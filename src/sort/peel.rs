@@ -11,8 +11,9 @@ use super::adjacency::NONE;
 pub const UNSET: u32 = u32::MAX;
 /// A released tet's in-degree: far above any count of decrements it can still receive.
 const RELEASED: u32 = 1 << 30;
-/// Frontiers at least this large are relaxed in parallel.
-const PAR_FRONTIER: usize = 1024;
+/// Frontiers at least this large are relaxed in parallel (smaller ones cost more in atomics and
+/// shared cache lines than a second core gains).
+const PAR_FRONTIER: usize = 16384;
 
 /// The precedence graph of one view, over global tet ids. `t` must come before `n` when bit `i`
 /// of `post[t]` is set and `n = neighbors[t][i]`, and before every `extra_to[extra_off[t]..]`.
@@ -116,9 +117,18 @@ pub fn peel(g: &Graph, tets: &[u32], indeg: &[AtomicU32], layer: &[AtomicU32]) -
                 })
                 .collect()
         } else {
+            // One thread owns this leaf's counters here (leaves never share a tet or an edge),
+            // so plain loads and stores do: no locked read-modify-write, no cache-line traffic.
             let mut out = Vec::with_capacity(frontier.len());
             for &t in &frontier {
-                relax(t, &mut out);
+                g.for_each_successor(t, |n| {
+                    let c = &indeg[n as usize];
+                    let v = c.load(Relaxed).wrapping_sub(1);
+                    c.store(v, Relaxed);
+                    if v == 0 {
+                        out.push(n);
+                    }
+                });
             }
             out
         };
