@@ -156,8 +156,30 @@ impl TriSurface {
         } else {
             return;
         }
+        // A float filter first: shear along d onto the plane x_k = o_k, where the ray is the
+        // point (o_i, o_j); triangles whose sheared box misses it by more than any rounding are
+        // skipped before the exact signs.
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let (si, sj) = (d[i] / d[k], d[j] / d[k]);
+        let mag = [bmin, bmax, *o]
+            .iter()
+            .flat_map(|p| p.iter())
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let eps = 1e-12 * mag * (2.0 + si.abs() + sj.abs()) + f64::MIN_POSITIVE;
+        let shear = |p: &[f64; 3]| {
+            let dk = p[k] - o[k];
+            (p[i] - si * dk - o[i], p[j] - sj * dk - o[j])
+        };
         for t in &self.tris {
             let [a, b, c] = t.map(|v| self.points[v as usize]);
+            let (sa, sb, sc) = (shear(&a), shear(&b), shear(&c));
+            if (sa.0 > eps && sb.0 > eps && sc.0 > eps)
+                || (sa.0 < -eps && sb.0 < -eps && sc.0 < -eps)
+                || (sa.1 > eps && sb.1 > eps && sc.1 > eps)
+                || (sa.1 < -eps && sb.1 < -eps && sc.1 < -eps)
+            {
+                continue;
+            }
             let s0 = side(&a, &b);
             let s1 = side(&b, &c);
             if s0 != s1 {
