@@ -333,8 +333,10 @@ fn tet_surface(p: &[[f64; 3]; 4], tb: &Aabb, s: &TriSurface) -> bool {
     }
     let tri_faces = [[0usize, 1, 2]];
     let tri_edges = [[0usize, 1], [1, 2], [2, 0]];
-    for t in &s.tris {
-        let v = t.map(|i| s.points[i as usize]);
+    let mut ids = Vec::new();
+    s.candidates(tb, &mut ids);
+    for &ti in &ids {
+        let v = s.tris[ti as usize].map(|i| s.points[i as usize]);
         if (0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
         {
             continue;

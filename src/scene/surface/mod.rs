@@ -1,6 +1,7 @@
 //! Closed triangle surfaces as cutting bodies: reading them (.stl, .obj, .vtk, .vtp), checking
 //! that they are closed and consistently oriented, and exact ray crossings.
 
+mod grid;
 mod obj;
 mod stl;
 mod vtk;
@@ -21,6 +22,7 @@ pub struct TriSurface {
     pub points: Vec<[f64; 3]>,
     pub tris: Vec<[u32; 3]>,
     pub bounds: Aabb,
+    grid: grid::TriGrid,
 }
 
 /// Polygons as read from a file, before welding and checking.
@@ -108,11 +110,13 @@ impl TriSurface {
         }
         check_closed(&points, &tris)?;
         let bounds = Aabb::of_points(points.iter());
+        let grid = grid::TriGrid::build(&points, &tris, &bounds);
         Ok(TriSurface {
             file: path.to_path_buf(),
             points,
             tris,
             bounds,
+            grid,
         })
     }
 
@@ -122,6 +126,18 @@ impl TriSurface {
     /// `eps u + eps^2 w` (simulation of simplicity), with `u`, `w` the two coordinate axes other
     /// than `d`'s largest. Triangles seen edge-on never count (the moved line misses them).
     pub fn crossings(&self, o: &[f64; 3], d: &[f64; 3], out: &mut Vec<f64>) {
+        self.crossings_among(o, d, None, out)
+    }
+
+    /// [`TriSurface::crossings`] restricted to the triangles `among` (all when `None`); the
+    /// caller guarantees the others cannot be crossed.
+    pub fn crossings_among(
+        &self,
+        o: &[f64; 3],
+        d: &[f64; 3],
+        among: Option<&[u32]>,
+        out: &mut Vec<f64>,
+    ) {
         let k = (0..3)
             .max_by(|&a, &b| d[a].abs().total_cmp(&d[b].abs()))
             .unwrap_or(2);
@@ -170,7 +186,13 @@ impl TriSurface {
             let dk = p[k] - o[k];
             (p[i] - si * dk - o[i], p[j] - sj * dk - o[j])
         };
-        for t in &self.tris {
+        let all = 0..self.tris.len() as u32;
+        let ids: Box<dyn Iterator<Item = u32>> = match among {
+            Some(ids) => Box::new(ids.iter().copied()),
+            None => Box::new(all),
+        };
+        for ti in ids {
+            let t = &self.tris[ti as usize];
             let [a, b, c] = t.map(|v| self.points[v as usize]);
             let (sa, sb, sc) = (shear(&a), shear(&b), shear(&c));
             if (sa.0 > eps && sb.0 > eps && sc.0 > eps)
@@ -211,9 +233,16 @@ impl TriSurface {
         if !self.bounds.contains(p) {
             return false;
         }
+        let mut ids = Vec::new();
+        self.grid.column_up(p, &mut ids);
         let mut v = Vec::new();
-        self.crossings(p, &[0.0, 0.0, 1.0], &mut v);
+        self.crossings_among(p, &[0.0, 0.0, 1.0], Some(&ids), &mut v);
         v.len() % 2 == 1
+    }
+
+    /// Triangles whose boxes may overlap `b` (a superset; each once).
+    pub fn candidates(&self, b: &Aabb, out: &mut Vec<u32>) {
+        self.grid.candidates(b, out)
     }
 }
 
