@@ -191,3 +191,116 @@ fn camera_file_and_errors() {
     .assert_failure(&["parallel to the view direction"]);
     assert!(!out.exists());
 }
+
+#[test]
+fn kd_is_exact_on_the_tetgen_torus() {
+    // R = 1, r = 0.4 around the z axis: rays through the hole leave and re-enter the mesh.
+    let views: Vec<Vec<&str>> = vec![
+        vec!["--azimuth=30", "--elevation=35"],
+        vec!["--elevation=8", "--parallel"],
+        vec!["--position=0,-4,0.3", "--focal=0,0,0", "--up=0,0,1"],
+        vec![
+            "--position=0,-3,0.25",
+            "--focal=0,0,0",
+            "--up=0,0,1",
+            "--parallel",
+        ],
+        // Inside the bounding box, in the hole, looking at the inner wall.
+        vec![
+            "--position=0.05,0,0.02",
+            "--focal=1,0.4,0",
+            "--up=0,0,1",
+            "--view-angle=100",
+        ],
+        // On the plane z = 0 (the torus' mirror plane).
+        vec!["--position=3,0.3,0", "--focal=0,0,0", "--up=0,0,1"],
+    ];
+    let (mut centroid, mut mpvo) = (0, 0);
+    for v in &views {
+        let (kd, c) = violations("tetgen/torus.1.ele", "kd", v);
+        assert_eq!(kd, 0, "kd on the torus with {v:?}");
+        assert!(c > 0, "{v:?}: no ray met the torus");
+        centroid += violations("tetgen/torus.1.ele", "centroid", v).0;
+        mpvo += violations("tetgen/torus.1.ele", "mpvo", v).0;
+    }
+    eprintln!(
+        "tetgen/torus.1.ele: kd 0, mpvo {mpvo}, centroid {centroid} violations over {} views",
+        views.len()
+    );
+    assert!(centroid > 0);
+    assert!(
+        mpvo > 0,
+        "adjacency alone should misorder the torus seen through its hole"
+    );
+}
+
+#[test]
+fn partition_then_kd_sort_is_exact_and_vtk_reads_the_order() {
+    let dir = tempdir();
+    let split = dir.path().join("split.vtu");
+    let tree = dir.path().join("tree.vtu");
+    tetkit([
+        "partition",
+        fixture("gmsh/block_hole.vtk").to_str().unwrap(),
+        "-o",
+        split.to_str().unwrap(),
+        "--tree",
+        tree.to_str().unwrap(),
+        "--leaves",
+        "4",
+    ])
+    .assert_success();
+    let cams: [&[&str]; 3] = [
+        &["--position=3.5,-2.1,2.4", "--focal=1,0.5,0.4"],
+        &[
+            "--position=0.7,0.5,0.45",
+            "--focal=1.9,0.8,0.5",
+            "--up=0,0,1",
+            "--view-angle=80",
+        ],
+        &["--azimuth=-60", "--elevation=30", "--parallel"],
+    ];
+    for cam in cams {
+        let mut args = vec![
+            "check-order",
+            split.to_str().unwrap(),
+            "--method=kd",
+            "--rays=3600",
+            "--json",
+        ];
+        args.extend_from_slice(cam);
+        let r = tetkit(&args);
+        r.assert_success();
+        let j = json(&r);
+        assert_eq!(j["sort_stats"]["leaves"], 4, "{j}");
+        assert_eq!(j["report"]["violations"], 0, "{cam:?}: {j}");
+    }
+    let out = dir.path().join("ordered.vtu");
+    let mut args = vec![
+        "sort",
+        split.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ];
+    args.extend_from_slice(cams[0]);
+    let r = tetkit(&args);
+    r.assert_success();
+    let stats = json(&r);
+    let n = stats["stats"]["tets"].as_u64().unwrap();
+    if !common::require_vtk("partition_then_kd_sort_is_exact_and_vtk_reads_the_order") {
+        return;
+    }
+    // VTK reads ORDERED.vtu: visibility_order is a permutation, layer and leaf_id are there.
+    let code = r#"
+import sys, vtk
+from vtk.util import numpy_support as ns
+r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update()
+g = r.GetOutput(); cd = g.GetCellData()
+o = ns.vtk_to_numpy(cd.GetArray("visibility_order"))
+print(g.GetNumberOfCells(), int((sorted(o) == list(range(len(o))))), int(cd.GetArray("layer") is not None), int(cd.GetArray("leaf_id") is not None), int(ns.vtk_to_numpy(cd.GetArray("leaf_id")).max()))
+"#;
+    let got = common::vtk_python(code, &[out.to_str().unwrap()]);
+    let f: Vec<u64> = got.split_whitespace().map(|x| x.parse().unwrap()).collect();
+    assert_eq!(f, vec![n, 1, 1, 1, 3], "{got}");
+}

@@ -72,36 +72,48 @@ impl LeafBoundary {
             .map(|f| eye_side(&view, p(f[0]), p(f[1]), p(f[2])))
             .collect();
         let (r, u, fw) = cam.frame();
-        let proj = |x: &[f64; 3]| -> Option<[f64; 2]> {
-            match view {
-                Viewpoint::Direction(_) => Some([dot(x, &r), dot(x, &u)]),
-                Viewpoint::Eye(e) => {
-                    let rel = sub(x, &e);
-                    let z = dot(&rel, &fw);
-                    (z > 0.0).then(|| [dot(&rel, &r) / z, dot(&rel, &u) / z])
-                }
-            }
-        };
-        // Projected triangles; `None` for faces that reach behind the eye (tested against all),
-        // and faces entirely behind the eye are dropped (no forward ray meets them).
-        let mut behind = vec![false; nf];
-        let shapes: Vec<Option<[[f64; 2]; 3]>> = self
+        let b = mesh.bounds().extent();
+        let near = 1e-9 * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt().max(1e-300);
+        // Projected faces. Perspective faces reaching behind the eye are clipped at a plane just
+        // in front of it (only forward rays make the image); faces entirely behind are dropped.
+        // `exact`: all three corners in front, so the exact projective overlap test applies.
+        let mut exact = vec![true; nf];
+        let shapes: Vec<Option<Vec<[f64; 2]>>> = self
             .tri
             .iter()
             .enumerate()
             .map(|(k, f)| {
-                let q = [proj(p(f[0])), proj(p(f[1])), proj(p(f[2]))];
-                if let Viewpoint::Eye(e) = view {
-                    if f.iter().all(|&v| dot(&sub(p(v), &e), &fw) <= 0.0) {
-                        behind[k] = true;
+                let q = [p(f[0]), p(f[1]), p(f[2])];
+                match view {
+                    Viewpoint::Direction(_) => {
+                        Some(q.iter().map(|x| [dot(x, &r), dot(x, &u)]).collect())
                     }
-                }
-                match q {
-                    [Some(a), Some(b), Some(c)] => Some([a, b, c]),
-                    _ => None,
+                    Viewpoint::Eye(e) => {
+                        let rel: Vec<[f64; 3]> = q.iter().map(|x| sub(x, &e)).collect();
+                        let z: Vec<f64> = rel.iter().map(|x| dot(x, &fw)).collect();
+                        let proj = |x: &[f64; 3], zz: f64| [dot(x, &r) / zz, dot(x, &u) / zz];
+                        if z.iter().all(|&zz| zz > near) {
+                            return Some((0..3).map(|i| proj(&rel[i], z[i])).collect());
+                        }
+                        exact[k] = false;
+                        let mut poly = Vec::with_capacity(4);
+                        for i in 0..3 {
+                            let j = (i + 1) % 3;
+                            if z[i] > near {
+                                poly.push(proj(&rel[i], z[i]));
+                            }
+                            if (z[i] > near) != (z[j] > near) {
+                                let t = (near - z[i]) / (z[j] - z[i]);
+                                let x = [0, 1, 2].map(|c| rel[i][c] + t * (rel[j][c] - rel[i][c]));
+                                poly.push(proj(&x, near));
+                            }
+                        }
+                        (poly.len() >= 3).then_some(poly)
+                    }
                 }
             })
             .collect();
+        let behind: Vec<bool> = shapes.iter().map(|s| s.is_none()).collect();
         let exits: Vec<u32> = (0..nf as u32)
             .filter(|&k| kind[k as usize] > 0 && !behind[k as usize])
             .collect();
@@ -111,15 +123,23 @@ impl LeafBoundary {
         if exits.is_empty() || entries.is_empty() {
             return Vec::new();
         }
-        let bbox = |s: &[[f64; 2]; 3]| -> [f64; 4] {
-            let xs = [s[0][0], s[1][0], s[2][0]];
-            let ys = [s[0][1], s[1][1], s[2][1]];
-            [
-                xs.iter().copied().fold(f64::INFINITY, f64::min),
-                ys.iter().copied().fold(f64::INFINITY, f64::min),
-                xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            ]
+        let bbox = |s: &Vec<[f64; 2]>| -> [f64; 4] {
+            s.iter().fold(
+                [
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NEG_INFINITY,
+                ],
+                |b, q| {
+                    [
+                        b[0].min(q[0]),
+                        b[1].min(q[1]),
+                        b[2].max(q[0]),
+                        b[3].max(q[1]),
+                    ]
+                },
+            )
         };
         let boxes: Vec<Option<[f64; 4]>> = shapes.iter().map(|s| s.as_ref().map(bbox)).collect();
         // A grid over the bounded exit faces' boxes; perspective windows are clamped (far off-axis
@@ -190,6 +210,7 @@ impl LeafBoundary {
             view,
             cam,
             shapes: &shapes,
+            exact: &exact,
             tol,
         };
         let mut out: Vec<(u32, u32)> = entries
@@ -256,7 +277,8 @@ struct PairCtx<'a> {
     tri: &'a [[u32; 3]],
     view: Viewpoint,
     cam: &'a Camera,
-    shapes: &'a [Option<[[f64; 2]; 3]>],
+    shapes: &'a [Option<Vec<[f64; 2]>>],
+    exact: &'a [bool],
     tol: f64,
 }
 
@@ -273,7 +295,10 @@ impl PairCtx<'_> {
                 return false;
             }
             // Exactly: the projections' interiors must meet, or no ray crosses both faces.
-            if self.exactly_separated(&ft, &gt) || self.exactly_separated(&gt, &ft) {
+            if self.exact[f]
+                && self.exact[g]
+                && (self.exactly_separated(&ft, &gt) || self.exactly_separated(&gt, &ft))
+            {
                 return false;
             }
         }
@@ -313,14 +338,7 @@ impl PairCtx<'_> {
     /// the overlap of their projections.
     fn sample_in_front(&self, f: usize, g: usize) -> bool {
         let (Some(a), Some(b)) = (&self.shapes[f], &self.shapes[g]) else {
-            // Reaches behind the eye: order by the faces' nearest points along the view.
-            let d = self.cam.direction();
-            let near = |t: &[u32; 3]| {
-                t.iter()
-                    .map(|&v| dot(self.p(v), &d))
-                    .fold(f64::INFINITY, f64::min)
-            };
-            return near(&self.tri[f]) <= near(&self.tri[g]);
+            return false;
         };
         let Some(q) = overlap_point(a, b) else {
             return false;
@@ -370,21 +388,31 @@ fn ft_side(pts: &[[f64; 3]], t: &[u32; 3], other: &[u32; 3]) -> Side {
     }
 }
 
+/// Twice the signed area of a polygon (shoelace).
+fn signed_area(s: &[[f64; 2]]) -> f64 {
+    (0..s.len())
+        .map(|i| {
+            let (p, q) = (&s[i], &s[(i + 1) % s.len()]);
+            p[0] * q[1] - q[0] * p[1]
+        })
+        .sum()
+}
+
 fn orient2(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
 /// Whether an edge line of either triangle separates them by more than `tol` (so a conservative
 /// "maybe overlapping" for touching or nearly touching triangles).
-fn separated(a: &[[f64; 2]; 3], b: &[[f64; 2]; 3], tol: f64) -> bool {
-    let sep = |s: &[[f64; 2]; 3], o: &[[f64; 2]; 3]| -> bool {
-        let area = orient2(&s[0], &s[1], &s[2]);
+fn separated(a: &[[f64; 2]], b: &[[f64; 2]], tol: f64) -> bool {
+    let sep = |s: &[[f64; 2]], o: &[[f64; 2]]| -> bool {
+        let area = signed_area(s);
         if area == 0.0 {
             return false;
         }
         let sg = area.signum();
-        (0..3).any(|i| {
-            let (p, q) = (&s[i], &s[(i + 1) % 3]);
+        (0..s.len()).any(|i| {
+            let (p, q) = (&s[i], &s[(i + 1) % s.len()]);
             let len = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
             o.iter().all(|x| sg * orient2(p, q, x) < -tol * len)
         })
@@ -393,14 +421,14 @@ fn separated(a: &[[f64; 2]; 3], b: &[[f64; 2]; 3], tol: f64) -> bool {
 }
 
 /// A point inside both triangles' projections (the centroid of their clipped intersection).
-fn overlap_point(a: &[[f64; 2]; 3], b: &[[f64; 2]; 3]) -> Option<[f64; 2]> {
+fn overlap_point(a: &[[f64; 2]], b: &[[f64; 2]]) -> Option<[f64; 2]> {
     let mut poly: Vec<[f64; 2]> = b.to_vec();
-    let sg = orient2(&a[0], &a[1], &a[2]).signum();
+    let sg = signed_area(a).signum();
     if sg == 0.0 {
         return None;
     }
-    for i in 0..3 {
-        let (p, q) = (&a[i], &a[(i + 1) % 3]);
+    for i in 0..a.len() {
+        let (p, q) = (&a[i], &a[(i + 1) % a.len()]);
         let inside = |x: &[f64; 2]| sg * orient2(p, q, x) >= 0.0;
         let mut next = Vec::with_capacity(poly.len() + 1);
         for k in 0..poly.len() {
