@@ -76,39 +76,50 @@ impl ConvertArgs {
 }
 
 pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
+    let to_stdout = args.output.as_os_str() == "-";
+    // Decide the output format before reading, so a bad name fails fast and writes nothing.
+    let format = if to_stdout {
+        Format::from_name(&args.to)
+            .filter(|f| matches!(f, Format::Vtu | Format::Legacy))
+            .with_context(|| format!("--to {}: stdout takes vtu or vtk", args.to))?
+    } else {
+        Format::from_path(&args.output)?
+    };
     let mut grid = super::read_input(&args.input)?;
     if args.tetrahedralize {
-        let (tets, report) = tetrahedralize(&grid, true)
-            .with_context(|| format!("tetrahedralizing {}", args.input.display()))?;
-        for (t, n) in &report.split {
-            eprintln!(
-                "tetkit: split {n} {} cells into tets",
-                formats::cell_type::name(*t)
-            );
+        // TetGen files hold only tets; every other format keeps the boundary cells too.
+        let keep_lower = format != Format::TetGen;
+        let (tets, report) = tetrahedralize(&grid, keep_lower)
+            .with_context(|| format!("{}: tetrahedralizing", args.input.display()))?;
+        for line in report.lines() {
+            eprintln!("tetkit: {line}");
         }
         grid = tets;
     }
     let opts = args.write_options();
-    if args.output.as_os_str() == "-" {
-        let format = Format::from_name(&args.to)
-            .filter(|f| matches!(f, Format::Vtu | Format::Legacy))
-            .with_context(|| format!("--to {}: stdout takes vtu or vtk", args.to))?;
-        let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-        formats::write_to(&mut out, format, &grid, &opts)?;
-        std::io::Write::flush(&mut out).context("writing stdout")?;
+    if to_stdout {
+        // Encode fully before writing anything, so a failure leaves no partial stream.
+        let mut buf = Vec::new();
+        formats::write_to(&mut buf, format, &grid, &opts)?;
+        let mut out = std::io::stdout().lock();
+        std::io::Write::write_all(&mut out, &buf)
+            .and_then(|_| std::io::Write::flush(&mut out))
+            .context("writing stdout")?;
         return Ok(());
     }
-    if Format::from_path(&args.output)? == Format::TetGen
-        && grid
+    if format == Format::TetGen {
+        if let Some(i) = grid
             .cells
             .types
             .iter()
-            .any(|&t| t != formats::cell_type::TETRA)
-    {
-        bail!(
-            "{}: TetGen files hold only tetrahedra; add --tetrahedralize",
-            args.output.display()
-        );
+            .position(|&t| t != formats::cell_type::TETRA)
+        {
+            bail!(
+                "{}: TetGen files hold only linear tetrahedra, but cell {i} is a {}; add --tetrahedralize",
+                args.output.display(),
+                formats::cell_type::name(grid.cells.types[i])
+            );
+        }
     }
     formats::write(&args.output, &grid, &opts)?;
     Ok(())
