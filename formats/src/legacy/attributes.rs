@@ -1,0 +1,293 @@
+//! POINT_DATA / CELL_DATA sections (SCALARS, COLOR_SCALARS, LOOKUP_TABLE, VECTORS, NORMALS,
+//! TEXTURE_COORDINATES, TENSORS, TENSORS6, GLOBAL_IDS, PEDIGREE_IDS, EDGE_FLAGS, FIELD), FIELD
+//! blocks, and the METADATA block that may follow any array.
+
+use super::cursor::{is_kw, show, Cursor};
+use super::names;
+use super::values::{read_ascii, read_numeric, read_values, LegacyType};
+use crate::{ArrayData, Attribute, Attributes, DataArray, FormatError};
+
+/// Field-data name under which an inline `LOOKUP_TABLE name size` block is kept: 4 Float32
+/// components (r, g, b, a in 0..1), one tuple per table entry.
+pub const LOOKUP_TABLE_PREFIX: &str = "lookup_table:";
+
+/// Reads a data type keyword.
+pub(crate) fn read_type(cur: &mut Cursor<'_>, what: &str) -> Result<LegacyType, FormatError> {
+    let (p, t) = cur.expect(&format!("the data type of {what}"))?;
+    LegacyType::parse(t)
+        .ok_or_else(|| cur.err(p, format!("{what}: unknown data type '{}'", show(t))))
+}
+
+/// Reads a (%-encoded) array name.
+pub(crate) fn read_name(cur: &mut Cursor<'_>, what: &str) -> Result<String, FormatError> {
+    let (_, t) = cur.expect(what)?;
+    Ok(names::decode(t))
+}
+
+/// Reads `tuples * components` values of `ty`, then any METADATA block, into a named array.
+pub(crate) fn read_array(
+    cur: &mut Cursor<'_>,
+    name: String,
+    ty: LegacyType,
+    components: usize,
+    tuples: usize,
+) -> Result<DataArray, FormatError> {
+    let at = cur.pos;
+    let n = tuples.checked_mul(components).ok_or_else(|| {
+        cur.err(
+            at,
+            format!("array '{name}': {tuples} tuples x {components} components overflows"),
+        )
+    })?;
+    let data = read_numeric(cur, ty, n, &format!("array '{name}'"))?;
+    let mut array = DataArray::new(name, components, data);
+    if let Some(names) = read_metadata(cur, components)? {
+        array.component_names = names;
+    }
+    Ok(array)
+}
+
+/// A METADATA block after an array: COMPONENT_NAMES (kept, one %-encoded line per component,
+/// empty for unnamed ones) and INFORMATION keys (skipped: the data model has no place for
+/// them). The block ends at an empty line.
+pub(crate) fn read_metadata(
+    cur: &mut Cursor<'_>,
+    components: usize,
+) -> Result<Option<Vec<String>>, FormatError> {
+    match cur.peek() {
+        Some((_, t)) if is_kw(t, "METADATA") => {}
+        _ => return Ok(None),
+    }
+    cur.token();
+    cur.line();
+    let mut names = Vec::new();
+    loop {
+        if cur.pos >= cur.bytes.len() {
+            break;
+        }
+        let at = cur.pos;
+        let line = cur.line();
+        let word = line
+            .split(|b| b.is_ascii_whitespace())
+            .find(|w| !w.is_empty());
+        let Some(word) = word else { break };
+        if is_kw(word, "COMPONENT_NAMES") {
+            names.clear();
+            for k in 0..components {
+                if cur.pos >= cur.bytes.len() {
+                    return Err(cur.err(
+                        cur.pos,
+                        format!("METADATA: end of file after {k} of {components} component names"),
+                    ));
+                }
+                names.push(names::decode(cur.line()));
+            }
+        } else if is_kw(word, "INFORMATION") {
+            // Keys run to the empty line that also ends the METADATA block.
+            while cur.pos < cur.bytes.len() && !cur.line().iter().all(u8::is_ascii_whitespace) {}
+            break;
+        } else {
+            return Err(cur.err(
+                at,
+                format!(
+                    "METADATA: expected COMPONENT_NAMES, INFORMATION or an empty line, found '{}'",
+                    show(line)
+                ),
+            ));
+        }
+    }
+    Ok((names.iter().any(|n| !n.is_empty())).then_some(names))
+}
+
+/// A FIELD block: `FIELD name count`, then per array `name components tuples type` and its
+/// values (or `NULL_ARRAY`).
+pub(crate) fn read_field(cur: &mut Cursor<'_>) -> Result<Vec<DataArray>, FormatError> {
+    let _block = read_name(cur, "the FIELD name")?;
+    let count = cur.expect_count("the number of FIELD arrays")?;
+    let mut out = Vec::new();
+    for _ in 0..count {
+        let (p, t) = cur.expect("a FIELD array name")?;
+        if is_kw(t, "NULL_ARRAY") {
+            continue;
+        }
+        let name = names::decode(t);
+        let comps = cur.expect_count(&format!("the component count of FIELD array '{name}'"))?;
+        if comps == 0 {
+            return Err(cur.err(p, format!("FIELD array '{name}' has 0 components")));
+        }
+        let tuples = cur.expect_count(&format!("the tuple count of FIELD array '{name}'"))?;
+        let ty = read_type(cur, &format!("FIELD array '{name}'"))?;
+        out.push(read_array(cur, name, ty, comps, tuples)?);
+    }
+    Ok(out)
+}
+
+/// Reads one attribute section's entries until the next section keyword or the end of the file.
+/// `n` is the tuple count the section declared. Lookup tables go to `field` (see
+/// [`LOOKUP_TABLE_PREFIX`]).
+pub(crate) fn read_section(
+    cur: &mut Cursor<'_>,
+    n: usize,
+    attrs: &mut Attributes,
+    field: &mut Vec<DataArray>,
+) -> Result<(), FormatError> {
+    while let Some((p, t)) = cur.peek() {
+        if is_kw(t, "POINT_DATA") || is_kw(t, "CELL_DATA") {
+            return Ok(());
+        }
+        cur.token();
+        let kw = String::from_utf8_lossy(t).to_ascii_uppercase();
+        let (role, comps) = match kw.as_str() {
+            "SCALARS" => {
+                let name = read_name(cur, "the SCALARS name")?;
+                let ty = read_type(cur, &format!("SCALARS '{name}'"))?;
+                let (q, t2) = cur.expect("LOOKUP_TABLE or a component count")?;
+                let mut comps = 1;
+                let mut t2 = t2;
+                if !is_kw(t2, "LOOKUP_TABLE") {
+                    comps = super::cursor::parse_count(t2)
+                        .filter(|c| (1..=4).contains(c))
+                        .ok_or_else(|| {
+                            cur.err(
+                                q,
+                                format!(
+                                    "SCALARS '{name}': component count must be 1..4, found '{}'",
+                                    show(t2)
+                                ),
+                            )
+                        })?;
+                    let (q2, t3) = cur.expect("LOOKUP_TABLE")?;
+                    if !is_kw(t3, "LOOKUP_TABLE") {
+                        return Err(cur.err(
+                            q2,
+                            format!(
+                                "SCALARS '{name}': expected LOOKUP_TABLE, found '{}'",
+                                show(t3)
+                            ),
+                        ));
+                    }
+                    t2 = t3;
+                }
+                let _ = t2;
+                let lut = read_name(cur, "the lookup table name")?;
+                let array = read_array(cur, name.clone(), ty, comps, n)?;
+                if lut != "default" {
+                    attrs.lookup_tables.push((name.clone(), lut));
+                }
+                add(attrs, array, Some(Attribute::Scalars));
+                continue;
+            }
+            "COLOR_SCALARS" => {
+                let name = read_name(cur, "the COLOR_SCALARS name")?;
+                let comps = cur.expect_count("the COLOR_SCALARS component count")?;
+                if comps == 0 {
+                    return Err(cur.err(p, format!("COLOR_SCALARS '{name}' has 0 components")));
+                }
+                let total = n
+                    .checked_mul(comps)
+                    .ok_or_else(|| cur.err(p, "COLOR_SCALARS size overflows"))?;
+                let what = format!("COLOR_SCALARS '{name}'");
+                // Bytes in binary files, floats in 0..1 in ASCII ones; VTK keeps bytes.
+                let data: Vec<u8> = if cur.binary {
+                    read_values(cur, total, &what)?
+                } else {
+                    let f: Vec<f32> = read_values(cur, total, &what)?;
+                    f.into_iter()
+                        .map(|x| (255.0 * x + 0.5).clamp(0.0, 255.0) as u8)
+                        .collect()
+                };
+                let mut array = DataArray::new(name, comps, ArrayData::UInt8(data));
+                if let Some(names) = read_metadata(cur, comps)? {
+                    array.component_names = names;
+                }
+                add(attrs, array, Some(Attribute::Scalars));
+                continue;
+            }
+            "LOOKUP_TABLE" => {
+                let name = read_name(cur, "the lookup table name")?;
+                let size = cur.expect_count("the lookup table size")?;
+                let total = size
+                    .checked_mul(4)
+                    .ok_or_else(|| cur.err(p, "lookup table size overflows"))?;
+                let what = format!("LOOKUP_TABLE '{name}'");
+                let data: Vec<f32> = if cur.binary {
+                    let b: Vec<u8> = read_values(cur, total, &what)?;
+                    b.into_iter().map(|x| x as f32 / 255.0).collect()
+                } else {
+                    read_ascii(
+                        cur,
+                        total,
+                        &what,
+                        <f32 as super::values::Value>::parse_ascii,
+                    )?
+                };
+                let array = DataArray::new(
+                    format!("{LOOKUP_TABLE_PREFIX}{name}"),
+                    4,
+                    ArrayData::Float32(data),
+                );
+                match field.iter_mut().find(|a| a.name == array.name) {
+                    Some(slot) => *slot = array,
+                    None => field.push(array),
+                }
+                continue;
+            }
+            "VECTORS" => (Some(Attribute::Vectors), 3),
+            "NORMALS" => (Some(Attribute::Normals), 3),
+            "TENSORS" => (Some(Attribute::Tensors), 9),
+            "TENSORS6" => (Some(Attribute::Tensors), 6),
+            "GLOBAL_IDS" => (Some(Attribute::GlobalIds), 1),
+            "PEDIGREE_IDS" => (Some(Attribute::PedigreeIds), 1),
+            "EDGE_FLAGS" => (None, 1),
+            "TEXTURE_COORDINATES" => {
+                let name = read_name(cur, "the TEXTURE_COORDINATES name")?;
+                let (q, t2) = cur.expect("the texture coordinate dimension")?;
+                let dim = super::cursor::parse_count(t2)
+                    .filter(|d| (1..=3).contains(d))
+                    .ok_or_else(|| {
+                        cur.err(
+                            q,
+                            format!(
+                                "TEXTURE_COORDINATES '{name}': dimension must be 1..3, found '{}'",
+                                show(t2)
+                            ),
+                        )
+                    })?;
+                let ty = read_type(cur, &format!("TEXTURE_COORDINATES '{name}'"))?;
+                let array = read_array(cur, name, ty, dim, n)?;
+                add(attrs, array, Some(Attribute::TCoords));
+                continue;
+            }
+            "FIELD" => {
+                for array in read_field(cur)? {
+                    add(attrs, array, None);
+                }
+                continue;
+            }
+            _ => {
+                return Err(cur.err(
+                    p,
+                    format!(
+                        "unknown keyword '{}' in a POINT_DATA/CELL_DATA section",
+                        show(t)
+                    ),
+                ))
+            }
+        };
+        let name = read_name(cur, &format!("the {kw} name"))?;
+        let ty = read_type(cur, &format!("{kw} '{name}'"))?;
+        let array = read_array(cur, name, ty, comps, n)?;
+        add(attrs, array, role);
+    }
+    Ok(())
+}
+
+/// Adds an array; the first array of each role becomes the active one, as in VTK.
+fn add(attrs: &mut Attributes, array: DataArray, role: Option<Attribute>) {
+    if let Some(role) = role {
+        if !attrs.active.iter().any(|(r, _)| *r == role) {
+            attrs.active.push((role, array.name.clone()));
+        }
+    }
+    attrs.insert(array);
+}

@@ -1,0 +1,47 @@
+//! The %XX escaping VTK applies to array names and strings in legacy files.
+
+/// Decodes `%XX` escapes; anything malformed is kept as written.
+pub(crate) fn decode(t: &[u8]) -> String {
+    let mut out = Vec::with_capacity(t.len());
+    let mut i = 0;
+    while i < t.len() {
+        if t[i] == b'%' && i + 2 < t.len() {
+            let hex = |b: u8| (b as char).to_digit(16);
+            if let (Some(h), Some(l)) = (hex(t[i + 1]), hex(t[i + 2])) {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(t[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Escapes what would break a whitespace-separated token or a line: whitespace, `%`, `"`,
+/// control and non-ASCII bytes (as vtkDataWriter::EncodeString does).
+pub(crate) fn encode(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for &b in s.as_bytes() {
+        if b.is_ascii_graphic() && b != b'%' && b != b'"' {
+            out.push(b as char);
+        } else {
+            out.push_str(&format!("%{b:02X}"));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip() {
+        for s in ["a b", "100%", "é\t\"x\"", "", "%2"] {
+            assert_eq!(decode(encode(s).as_bytes()), s);
+        }
+        assert_eq!(decode(b"a%20b%zz%4"), "a b%zz%4");
+    }
+}

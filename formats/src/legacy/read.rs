@@ -1,0 +1,346 @@
+//! The dataset part of a legacy file: DATASET, FIELD, POINTS, CELLS (4.2 counts-inline or 5.1
+//! OFFSETS/CONNECTIVITY), CELL_TYPES, then the attribute sections; polyhedra's face streams are
+//! turned into point lists plus the face arrays VTK keeps.
+
+use super::attributes::{read_field, read_metadata, read_section, read_type};
+use super::cursor::{is_kw, show, Cursor};
+use super::header;
+use super::values::{read_numeric, read_values, LegacyType};
+use crate::{cell_type, ArrayData, Cells, DataArray, Grid, Result};
+
+/// Cells as the file gives them, before the types arrive.
+enum RawCells {
+    /// 4.2: `npts id id ...` per cell; `at` is where the block started (for errors).
+    Counts { n: usize, data: Vec<i64>, at: usize },
+    /// 5.1: offsets (cells + 1) and connectivity.
+    Offsets {
+        offsets: Vec<i64>,
+        conn: Vec<i64>,
+        at: usize,
+    },
+}
+
+/// Parses a whole legacy .vtk file held in memory.
+pub fn read(bytes: &[u8]) -> Result<Grid> {
+    let mut cur = Cursor::new(bytes);
+    header::parse(&mut cur)?;
+    let mut grid = Grid::default();
+    let mut have_dataset = false;
+    let mut have_points = false;
+    let mut raw: Option<RawCells> = None;
+    let mut types: Option<(Vec<u8>, usize)> = None;
+    while let Some((p, t)) = cur.token() {
+        if is_kw(t, "DATASET") {
+            let (q, kind) = cur.expect("the dataset type")?;
+            if !is_kw(kind, "UNSTRUCTURED_GRID") {
+                return Err(cur.err(
+                    q,
+                    format!(
+                        "dataset type '{}' is not supported: only UNSTRUCTURED_GRID is read",
+                        show(kind)
+                    ),
+                ));
+            }
+            have_dataset = true;
+        } else if !have_dataset && !is_kw(t, "FIELD") {
+            return Err(cur.err(
+                p,
+                format!("expected DATASET UNSTRUCTURED_GRID, found '{}'", show(t)),
+            ));
+        } else if is_kw(t, "FIELD") {
+            for a in read_field(&mut cur)? {
+                upsert(&mut grid.field_data, a);
+            }
+        } else if is_kw(t, "POINTS") {
+            let n = cur.expect_count("the number of points")?;
+            let ty = read_type(&mut cur, "POINTS")?;
+            if matches!(ty, LegacyType::String) {
+                return Err(cur.err(p, "POINTS cannot be strings"));
+            }
+            let total = n
+                .checked_mul(3)
+                .ok_or_else(|| cur.err(p, format!("{n} points overflows")))?;
+            let data = read_numeric(&mut cur, ty, total, "POINTS")?;
+            let mut points = DataArray::new("Points", 3, data);
+            if let Some(names) = read_metadata(&mut cur, 3)? {
+                points.component_names = names;
+            }
+            grid.points = points;
+            have_points = true;
+        } else if is_kw(t, "CELLS") {
+            raw = Some(read_cells(&mut cur, p)?);
+        } else if is_kw(t, "CELL_TYPES") {
+            let n = cur.expect_count("the number of cell types")?;
+            let v: Vec<i32> = read_values(&mut cur, n, "CELL_TYPES")?;
+            let mut out = Vec::with_capacity(v.len());
+            for (i, &x) in v.iter().enumerate() {
+                match u8::try_from(x).ok().filter(|&t| cell_type::is_known(t)) {
+                    Some(t) => out.push(t),
+                    None => {
+                        return Err(cur.err(p, format!("CELL_TYPES: cell {i} has unknown type {x}")))
+                    }
+                }
+            }
+            types = Some((out, p));
+        } else if is_kw(t, "POINT_DATA") || is_kw(t, "CELL_DATA") {
+            let point = is_kw(t, "POINT_DATA");
+            let n = cur.expect_count("the number of tuples")?;
+            let expected = if point {
+                grid.num_points()
+            } else {
+                types.as_ref().map_or(0, |t| t.0.len())
+            };
+            if n != expected {
+                return Err(cur.err(
+                    p,
+                    format!(
+                        "{} {n} does not match the {expected} {} the file declares",
+                        if point { "POINT_DATA" } else { "CELL_DATA" },
+                        if point { "points" } else { "cells" }
+                    ),
+                ));
+            }
+            let attrs = if point {
+                &mut grid.point_data
+            } else {
+                &mut grid.cell_data
+            };
+            read_section(&mut cur, n, attrs, &mut grid.field_data)?;
+        } else {
+            return Err(cur.err(
+                p,
+                format!("unknown keyword '{}' in an UNSTRUCTURED_GRID", show(t)),
+            ));
+        }
+    }
+    if !have_dataset {
+        return Err(cur.err(cur.pos, "no DATASET line"));
+    }
+    if !have_points && raw.is_some() {
+        return Err(cur.err(cur.pos, "CELLS given but no POINTS"));
+    }
+    grid.cells = match (raw, types) {
+        (None, None) => Cells::new(),
+        (Some(_), None) => return Err(cur.err(cur.pos, "CELLS given but no CELL_TYPES")),
+        (None, Some((t, p))) if !t.is_empty() => {
+            return Err(cur.err(p, "CELL_TYPES given but no CELLS"))
+        }
+        (None, Some(_)) => Cells::new(),
+        (Some(raw), Some((t, p))) => assemble(&cur, raw, t, p)?,
+    };
+    Ok(grid)
+}
+
+fn upsert(v: &mut Vec<DataArray>, a: DataArray) {
+    match v.iter_mut().find(|x| x.name == a.name) {
+        Some(slot) => *slot = a,
+        None => v.push(a),
+    }
+}
+
+fn to_i64(cur: &Cursor<'_>, at: usize, what: &str, data: ArrayData) -> Result<Vec<i64>> {
+    Ok(match data {
+        ArrayData::Int64(v) => v,
+        ArrayData::Int32(v) => v.into_iter().map(i64::from).collect(),
+        ArrayData::Int16(v) => v.into_iter().map(i64::from).collect(),
+        ArrayData::Int8(v) => v.into_iter().map(i64::from).collect(),
+        ArrayData::UInt32(v) => v.into_iter().map(i64::from).collect(),
+        ArrayData::UInt16(v) => v.into_iter().map(i64::from).collect(),
+        ArrayData::UInt8(v) => v.into_iter().map(i64::from).collect(),
+        ArrayData::UInt64(v) => {
+            let mut out = Vec::with_capacity(v.len());
+            for x in v {
+                out.push(
+                    i64::try_from(x)
+                        .map_err(|_| cur.err(at, format!("{what}: {x} is too large")))?,
+                );
+            }
+            out
+        }
+        _ => return Err(cur.err(at, format!("{what} must have an integer type"))),
+    })
+}
+
+/// `CELLS a b`: 4.2 has `a` cells in `b` integers; 5.1 has `a` offsets and `b` connectivity
+/// entries in OFFSETS and CONNECTIVITY arrays that follow.
+fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
+    let a = cur.expect_count("the CELLS count")?;
+    let b = cur.expect_count("the CELLS size")?;
+    match cur.peek() {
+        Some((_, t)) if is_kw(t, "OFFSETS") => {
+            cur.token();
+            let ty = read_type(cur, "OFFSETS")?;
+            let q = cur.pos;
+            let offsets = read_numeric(cur, ty, a, "OFFSETS")?;
+            let offsets = to_i64(cur, q, "OFFSETS", offsets)?;
+            read_metadata(cur, 1)?;
+            let (q, t) = cur.expect("CONNECTIVITY")?;
+            if !is_kw(t, "CONNECTIVITY") {
+                return Err(cur.err(
+                    q,
+                    format!("expected CONNECTIVITY after OFFSETS, found '{}'", show(t)),
+                ));
+            }
+            let ty = read_type(cur, "CONNECTIVITY")?;
+            let q = cur.pos;
+            let conn = read_numeric(cur, ty, b, "CONNECTIVITY")?;
+            let conn = to_i64(cur, q, "CONNECTIVITY", conn)?;
+            read_metadata(cur, 1)?;
+            Ok(RawCells::Offsets { offsets, conn, at })
+        }
+        _ => {
+            let v: Vec<i32> = read_values(cur, b, "CELLS")?;
+            Ok(RawCells::Counts {
+                n: a,
+                data: v.into_iter().map(i64::from).collect(),
+                at,
+            })
+        }
+    }
+}
+
+/// Builds offsets/connectivity from the raw cells, checking every count against what is there,
+/// and expands polyhedron face streams.
+fn assemble(cur: &Cursor<'_>, raw: RawCells, types: Vec<u8>, types_at: usize) -> Result<Cells> {
+    let (offsets, conn, at) = match raw {
+        RawCells::Offsets { offsets, conn, at } => {
+            let offsets = if offsets.is_empty() { vec![0] } else { offsets };
+            if offsets[0] != 0 {
+                return Err(cur.err(at, format!("OFFSETS starts at {}, expected 0", offsets[0])));
+            }
+            if let Some(i) = offsets.windows(2).position(|w| w[1] < w[0]) {
+                return Err(cur.err(
+                    at,
+                    format!(
+                        "OFFSETS decrease at cell {i} ({} then {})",
+                        offsets[i],
+                        offsets[i + 1]
+                    ),
+                ));
+            }
+            let last = *offsets.last().unwrap_or(&0);
+            if last != conn.len() as i64 {
+                return Err(cur.err(
+                    at,
+                    format!(
+                        "OFFSETS end at {last} but CONNECTIVITY has {} entries",
+                        conn.len()
+                    ),
+                ));
+            }
+            (offsets, conn, at)
+        }
+        RawCells::Counts { n, data, at } => {
+            // Each cell takes at least its count entry.
+            if n > data.len() {
+                return Err(cur.err(
+                    at,
+                    format!("CELLS declares {n} cells in {} integers", data.len()),
+                ));
+            }
+            let mut offsets = Vec::with_capacity(n + 1);
+            offsets.push(0i64);
+            let mut conn = Vec::with_capacity(data.len() - n);
+            let mut k = 0usize;
+            for i in 0..n {
+                let npts = data.get(k).copied().ok_or_else(|| {
+                    cur.err(at, format!("CELLS: the data ends before cell {i} of {n}"))
+                })?;
+                let end = usize::try_from(npts)
+                    .ok()
+                    .and_then(|m| (k + 1).checked_add(m))
+                    .filter(|&e| e <= data.len())
+                    .ok_or_else(|| {
+                        cur.err(
+                            at,
+                            format!(
+                                "CELLS: cell {i} declares {npts} points, more than the block holds"
+                            ),
+                        )
+                    })?;
+                conn.extend_from_slice(&data[k + 1..end]);
+                offsets.push(conn.len() as i64);
+                k = end;
+            }
+            if k != data.len() {
+                return Err(cur.err(
+                    at,
+                    format!(
+                        "CELLS: {n} cells use {k} of the {} declared integers",
+                        data.len()
+                    ),
+                ));
+            }
+            (offsets, conn, at)
+        }
+    };
+    let ncells = offsets.len() - 1;
+    if types.len() != ncells {
+        return Err(cur.err(
+            types_at,
+            format!("CELL_TYPES has {} entries for {ncells} cells", types.len()),
+        ));
+    }
+    if !types.contains(&cell_type::POLYHEDRON) {
+        return Ok(Cells {
+            types,
+            offsets,
+            connectivity: conn,
+            polyhedron_faces: None,
+        });
+    }
+    expand_polyhedra(cur, at, types, &offsets, &conn)
+}
+
+/// A polyhedron's entry is its face stream `nfaces, n0, ids.., n1, ids..`; VTK keeps the sorted
+/// unique point ids as the cell's points and the stream as its faces.
+fn expand_polyhedra(
+    cur: &Cursor<'_>,
+    at: usize,
+    types: Vec<u8>,
+    offsets: &[i64],
+    conn: &[i64],
+) -> Result<Cells> {
+    let mut cells = Cells::new();
+    let mut faces = Vec::new();
+    let mut face_offsets = Vec::with_capacity(types.len());
+    for (i, &t) in types.iter().enumerate() {
+        let s = &conn[offsets[i] as usize..offsets[i + 1] as usize];
+        if t != cell_type::POLYHEDRON {
+            cells.push(t, s);
+            face_offsets.push(-1);
+            continue;
+        }
+        let bad = |m: &str| cur.err(at, format!("polyhedron cell {i}: {m}"));
+        let nf = *s.first().ok_or_else(|| bad("empty face stream"))?;
+        let nf = usize::try_from(nf).map_err(|_| bad("negative face count"))?;
+        let mut k = 1usize;
+        let mut ids = Vec::new();
+        for f in 0..nf {
+            let np = *s
+                .get(k)
+                .ok_or_else(|| bad(&format!("the stream ends before face {f}")))?;
+            let end = usize::try_from(np)
+                .ok()
+                .and_then(|m| (k + 1).checked_add(m))
+                .filter(|&e| e <= s.len())
+                .ok_or_else(|| {
+                    bad(&format!(
+                        "face {f} declares {np} points, more than the stream holds"
+                    ))
+                })?;
+            ids.extend_from_slice(&s[k + 1..end]);
+            k = end;
+        }
+        if k != s.len() {
+            return Err(bad(&format!("{} entries after the last face", s.len() - k)));
+        }
+        ids.sort_unstable();
+        ids.dedup();
+        cells.push(t, &ids);
+        faces.extend_from_slice(s);
+        face_offsets.push(faces.len() as i64);
+    }
+    cells.polyhedron_faces = Some((faces, face_offsets));
+    Ok(cells)
+}

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Regenerates fixtures/tetgen/ with the Debian `tetgen` binary (TetGen 1.6) from closed surfaces
+# that scripts/tetgen_surfaces.py writes as .poly files:
+#   sphere.1.{node,ele,face,neigh}  icosphere (2 subdivisions), quality mesh, 1-based, with .neigh
+#   torus.1.{node,ele,face}         non-convex torus (R=1, r=0.4), 0-based (-z)
+#   quadratic.1.{node,ele,face}     two stacked unit cubes, 10-node tets (-o2)
+#   regions.1.{node,ele,face}       the same two cubes as two regions, region attributes (-A)
+# tetgen's own summary of each run goes to fixtures/tetgen/*.log, which the tests compare with.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=fixtures/tetgen
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+/usr/bin/python3 scripts/tetgen_surfaces.py "$tmp"
+run() { # name switches
+  local name=$1 switches=$2
+  (cd "$tmp" && tetgen "$switches" "$name.poly" >"$name.log")
+  rm -f "$tmp/$name.1.edge"
+  mkdir -p "$out"
+  for f in "$tmp/$name".1.* ; do cp "$f" "$out/"; done
+  # Keep the counts tetgen printed (not its timings, which change run to run).
+  grep -E '^ +Mesh (points|tetrahedra|faces on facets)' "$tmp/$name.log" >"$out/$name.log"
+}
+rm -f "$out"/*.node "$out"/*.ele "$out"/*.face "$out"/*.neigh "$out"/*.log
+run sphere -pq1.4a0.05n
+run torus -pq1.2a0.02z
+run quadratic -pqo2
+run regions -pq1.4a0.05A
+ls -l "$out"
