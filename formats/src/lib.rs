@@ -150,15 +150,29 @@ pub fn read(path: &Path) -> Result<Grid> {
             check_sniff(path, format, &bytes)?;
             vtu::pvtu::read(path, &bytes)?
         }
-        Format::Vtu | Format::Legacy => {
+        Format::Vtu => {
+            check_sniff(path, format, &read_head(path)?)?;
+            vtu::read_path(path)?
+        }
+        Format::Legacy => {
             let bytes = read_file(path)?;
             check_sniff(path, format, &bytes)?;
-            read_bytes(&bytes, format).map_err(|e| e.with_file(path))?
+            legacy::read(&bytes).map_err(|e| e.with_file(path))?
         }
     };
     grid.validate()
         .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")).with_file(path))?;
     Ok(grid)
+}
+
+/// The first 4 KiB of a file, enough to sniff its format without reading it all.
+fn read_head(path: &Path) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(4096);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
+        .map_err(|e| FormatError::io(path, e))?;
+    Ok(head)
 }
 
 fn check_sniff(path: &Path, format: Format, bytes: &[u8]) -> Result<()> {

@@ -1,0 +1,495 @@
+//! Assembles a [`Grid`] from a parsed .vtu: arrays decoded in parallel, pieces merged in order.
+
+use super::decode::{self, Appended, Input};
+use super::source::{Blob, FileBlob, MemBlob};
+use super::xml::{self, ArrayXml, AttributesXml, Document, ElemType, PieceXml};
+use crate::{ArrayData, Attributes, Cells, DataArray, FormatError, Grid, Result};
+use rayon::prelude::*;
+use std::path::Path;
+
+/// Parses a whole .vtu file held in memory. The grid is not validated here (see [`crate::read`]).
+pub fn read(bytes: &[u8]) -> Result<Grid> {
+    let doc = xml::parse(bytes)?;
+    build(&doc, &MemBlob(bytes))
+}
+
+/// Reads a .vtu file: the XML through a buffered reader, the appended block with positioned
+/// reads straight into the arrays (so the file is never held in memory beside the mesh). Errors
+/// name the file. The grid is not validated here (see [`crate::read`]).
+pub fn read_path(path: &Path) -> Result<Grid> {
+    let io = |e: std::io::Error| FormatError::io(path, e);
+    let file = std::fs::File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    let doc = xml::parse(std::io::BufReader::with_capacity(1 << 16, &file))
+        .map_err(|e| e.with_file(path))?;
+    let blob = FileBlob { file, len };
+    build(&doc, &blob).map_err(|e| e.with_file(path))
+}
+
+/// Finds the `_` that starts the appended data, after the `<AppendedData>` tag and any blanks.
+fn appended<'a>(doc: &Document, blob: &'a dyn Blob) -> Result<Option<Appended<'a>>> {
+    let Some(app) = doc.appended else {
+        return Ok(None);
+    };
+    let mut pos = app.tag_end;
+    let mut buf = [0u8; 256];
+    loop {
+        let n = (blob.len().saturating_sub(pos)).min(buf.len() as u64) as usize;
+        if n == 0 {
+            return Err(FormatError::at_byte(
+                app.tag_end,
+                "<AppendedData> has no '_' marker (truncated?)",
+            ));
+        }
+        blob.read_at(pos, &mut buf[..n])
+            .map_err(|e| FormatError::at_byte(pos, e.to_string()))?;
+        match buf[..n].iter().position(|b| !b.is_ascii_whitespace()) {
+            Some(i) if buf[i] == b'_' => {
+                pos += i as u64 + 1;
+                break;
+            }
+            Some(i) => {
+                return Err(FormatError::at_byte(
+                    pos + i as u64,
+                    "expected the '_' that starts the appended data",
+                ))
+            }
+            None => pos += n as u64,
+        }
+    }
+    // A file cut short inside its appended block still has intact XML; its missing end says so.
+    let tail_len = blob.len().min(256);
+    let mut tail = vec![0u8; tail_len as usize];
+    blob.read_at(blob.len() - tail_len, &mut tail)
+        .map_err(|e| FormatError::at_byte(blob.len(), e.to_string()))?;
+    if !tail.trim_ascii_end().ends_with(b"</VTKFile>") {
+        return Err(FormatError::at_byte(
+            blob.len(),
+            "the file does not end with </VTKFile> (truncated?)",
+        ));
+    }
+    let mut offsets: Vec<u64> = all_arrays(doc).filter_map(|a| a.offset).collect();
+    offsets.sort_unstable();
+    offsets.dedup();
+    Ok(Some(Appended {
+        blob,
+        start: pos,
+        raw: app.raw,
+        offsets,
+    }))
+}
+
+fn all_arrays(doc: &Document) -> impl Iterator<Item = &ArrayXml> {
+    doc.field_data.iter().chain(doc.pieces.iter().flat_map(|p| {
+        p.point_data
+            .arrays
+            .iter()
+            .chain(&p.cell_data.arrays)
+            .chain(&p.points)
+            .chain(&p.cells)
+    }))
+}
+
+fn build(doc: &Document, blob: &dyn Blob) -> Result<Grid> {
+    let inp = Input {
+        layout: doc.layout,
+        appended: appended(doc, blob)?,
+    };
+    let field_data = doc
+        .field_data
+        .par_iter()
+        .map(|a| {
+            let need = match a.tuples {
+                Some(t) => Some(values(a, t)?),
+                None => None,
+            };
+            array(&inp, a, need)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let pieces = doc
+        .pieces
+        .iter()
+        .enumerate()
+        .map(|(i, p)| piece(&inp, p).map_err(|e| in_piece(e, i, doc.pieces.len())))
+        .collect::<Result<Vec<_>>>()?;
+    let mut grid = merge(pieces)?;
+    grid.field_data = field_data;
+    Ok(grid)
+}
+
+fn in_piece(mut e: FormatError, i: usize, n: usize) -> FormatError {
+    if n > 1 {
+        e.message = format!("piece {i}: {}", e.message);
+    }
+    e
+}
+
+/// `tuples * components`, overflow-checked.
+fn values(a: &ArrayXml, tuples: usize) -> Result<usize> {
+    tuples.checked_mul(a.components).ok_or_else(|| {
+        FormatError::at_byte(
+            a.tag_pos,
+            format!(
+                "array '{}': {tuples} tuples x {} components overflow",
+                a.name, a.components
+            ),
+        )
+    })
+}
+
+fn array(inp: &Input, a: &ArrayXml, need: Option<usize>) -> Result<DataArray> {
+    let data = match a.ty {
+        ElemType::String => ArrayData::String(decode::strings(inp, a, need)?),
+        ElemType::Num(_) => decode::numeric(inp, a, need)?,
+    };
+    if need.is_none() && data.len() % a.components != 0 {
+        return Err(FormatError::at_byte(
+            a.tag_pos,
+            format!(
+                "array '{}': {} values are not a whole number of {}-component tuples",
+                a.name,
+                data.len(),
+                a.components
+            ),
+        ));
+    }
+    Ok(DataArray {
+        name: a.name.clone(),
+        components: a.components,
+        component_names: a.component_names.clone(),
+        data,
+    })
+}
+
+fn attributes(inp: &Input, x: &AttributesXml, tuples: usize) -> Result<Attributes> {
+    let arrays = x
+        .arrays
+        .par_iter()
+        .map(|a| array(inp, a, Some(values(a, tuples)?)))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Attributes {
+        arrays,
+        active: x.active.clone(),
+        lookup_tables: Vec::new(),
+    })
+}
+
+fn cell_array<'a>(p: &'a PieceXml, name: &str) -> Option<&'a ArrayXml> {
+    p.cells.iter().find(|a| a.name == name)
+}
+
+fn missing(p: &PieceXml, what: &str) -> FormatError {
+    FormatError::at_byte(p.tag_pos, format!("<Piece> has no '{what}' array"))
+}
+
+/// Decodes one piece: offsets then connectivity on one side, everything else on the other.
+fn piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
+    let (np, nc) = (p.num_points, p.num_cells);
+    let cells = || -> Result<(Vec<i64>, Vec<i64>)> {
+        if nc == 0 {
+            return Ok((vec![0], Vec::new()));
+        }
+        let oa = cell_array(p, "offsets").ok_or_else(|| missing(p, "offsets"))?;
+        let ca = cell_array(p, "connectivity").ok_or_else(|| missing(p, "connectivity"))?;
+        let offsets = decode::ids(inp, oa, nc, 1)?;
+        let last = offsets[nc];
+        // Monotonic offsets are checked by validate; here the last one only sizes connectivity.
+        let n = usize::try_from(last).map_err(|_| {
+            FormatError::at_byte(
+                oa.tag_pos,
+                format!("array 'offsets': last offset is {last}"),
+            )
+        })?;
+        let connectivity = decode::ids(inp, ca, n, 0)?;
+        Ok((offsets, connectivity))
+    };
+    let rest = || -> Result<_> {
+        let points = match &p.points {
+            Some(a) => {
+                if a.components != 3 {
+                    return Err(FormatError::at_byte(
+                        a.tag_pos,
+                        format!(
+                            "array '{}' (Points) has {} components, expected 3",
+                            a.name, a.components
+                        ),
+                    ));
+                }
+                let need = np.checked_mul(3).ok_or_else(|| {
+                    FormatError::at_byte(p.tag_pos, format!("NumberOfPoints {np} is too large"))
+                })?;
+                let d = array(inp, a, Some(need))?;
+                if d.data.scalar_type().is_none() {
+                    return Err(FormatError::at_byte(a.tag_pos, "Points must be numeric"));
+                }
+                d
+            }
+            None if np == 0 => DataArray::new("Points", 3, ArrayData::Float32(Vec::new())),
+            None => return Err(FormatError::at_byte(p.tag_pos, "<Piece> has no <Points>")),
+        };
+        let types = if nc == 0 {
+            Vec::new()
+        } else {
+            let ta = cell_array(p, "types").ok_or_else(|| missing(p, "types"))?;
+            match decode::numeric(inp, ta, Some(nc))? {
+                ArrayData::UInt8(v) => v,
+                other => {
+                    let mut v = Vec::with_capacity(nc);
+                    for i in 0..nc {
+                        let x = other.get_f64(i);
+                        if !(0.0..=255.0).contains(&x) || x.fract() != 0.0 {
+                            return Err(FormatError::at_byte(
+                                ta.tag_pos,
+                                format!("array 'types': value {i} is {x}, not a cell type"),
+                            ));
+                        }
+                        v.push(x as u8);
+                    }
+                    v
+                }
+            }
+        };
+        let faces = match (cell_array(p, "faces"), cell_array(p, "faceoffsets")) {
+            (Some(fa), Some(fo)) => {
+                let fo_v = decode::ids(inp, fo, nc, 0)?;
+                let n = fo_v.iter().copied().max().unwrap_or(0).max(0);
+                let n = usize::try_from(n)
+                    .map_err(|_| FormatError::at_byte(fo.tag_pos, "bad faceoffsets"))?;
+                let f_v = decode::ids(inp, fa, n, 0)?;
+                check_faces(&f_v, &fo_v, np)
+                    .map_err(|m| FormatError::at_byte(fa.tag_pos, format!("array 'faces': {m}")))?;
+                Some((f_v, fo_v))
+            }
+            (None, None) => None,
+            _ => {
+                return Err(FormatError::at_byte(
+                    p.tag_pos,
+                    "<Cells> has only one of 'faces' and 'faceoffsets'",
+                ))
+            }
+        };
+        let (pd, cd) = rayon::join(
+            || attributes(inp, &p.point_data, np),
+            || attributes(inp, &p.cell_data, nc),
+        );
+        Ok((points, types, faces, pd?, cd?))
+    };
+    let (c, r) = rayon::join(cells, rest);
+    let (offsets, connectivity) = c?;
+    let (points, types, polyhedron_faces, point_data, cell_data) = r?;
+    Ok(Grid {
+        points,
+        cells: Cells {
+            types,
+            offsets,
+            connectivity,
+            polyhedron_faces,
+        },
+        point_data,
+        cell_data,
+        field_data: Vec::new(),
+    })
+}
+
+/// Checks polyhedron face streams: each polyhedron's stream (between the previous non-negative
+/// face offset and its own) is `nfaces, (npts, ids...) * nfaces`, ids in `0..np`.
+pub(crate) fn check_faces(
+    faces: &[i64],
+    faceoffsets: &[i64],
+    np: usize,
+) -> std::result::Result<(), String> {
+    let mut start = 0usize;
+    for (cell, &end) in faceoffsets.iter().enumerate() {
+        if end < 0 {
+            continue;
+        }
+        let end = end as usize;
+        if end < start || end > faces.len() {
+            return Err(format!(
+                "cell {cell}: face offset {end} is out of order or past the end"
+            ));
+        }
+        let s = &faces[start..end];
+        let bad = || format!("cell {cell}: malformed face stream");
+        let nf = *s.first().ok_or_else(bad)?;
+        let mut k = 1usize;
+        for _ in 0..nf.max(0) {
+            let n = usize::try_from(*s.get(k).ok_or_else(bad)?).map_err(|_| bad())?;
+            let ids = s.get(k + 1..k + 1 + n).ok_or_else(bad)?;
+            if let Some(&id) = ids.iter().find(|&&id| id < 0 || id as usize >= np) {
+                return Err(format!("cell {cell}: point id {id} outside 0..{np}"));
+            }
+            k += 1 + n;
+        }
+        if k != s.len() || nf < 0 {
+            return Err(bad());
+        }
+        start = end;
+    }
+    Ok(())
+}
+
+fn concat(parts: Vec<ArrayData>, what: &str) -> Result<ArrayData> {
+    let mut it = parts.into_iter();
+    let mut first = it.next().unwrap_or(ArrayData::Float64(Vec::new()));
+    for (i, p) in it.enumerate() {
+        match (&mut first, p) {
+            (ArrayData::Int8(a), ArrayData::Int8(b)) => a.extend(b),
+            (ArrayData::UInt8(a), ArrayData::UInt8(b)) => a.extend(b),
+            (ArrayData::Int16(a), ArrayData::Int16(b)) => a.extend(b),
+            (ArrayData::UInt16(a), ArrayData::UInt16(b)) => a.extend(b),
+            (ArrayData::Int32(a), ArrayData::Int32(b)) => a.extend(b),
+            (ArrayData::UInt32(a), ArrayData::UInt32(b)) => a.extend(b),
+            (ArrayData::Int64(a), ArrayData::Int64(b)) => a.extend(b),
+            (ArrayData::UInt64(a), ArrayData::UInt64(b)) => a.extend(b),
+            (ArrayData::Float32(a), ArrayData::Float32(b)) => a.extend(b),
+            (ArrayData::Float64(a), ArrayData::Float64(b)) => a.extend(b),
+            (ArrayData::String(a), ArrayData::String(b)) => a.extend(b),
+            (a, b) => {
+                return Err(FormatError::new(
+                    crate::Place::Array(what.to_string()),
+                    format!(
+                        "piece {} has type {} but piece 0 has {}",
+                        i + 1,
+                        b.type_name(),
+                        a.type_name()
+                    ),
+                ))
+            }
+        }
+    }
+    Ok(first)
+}
+
+fn merge_attributes(parts: Vec<Attributes>, what: &str) -> Result<Attributes> {
+    let mut it = parts.into_iter();
+    let Some(first) = it.next() else {
+        return Ok(Attributes::default());
+    };
+    let rest: Vec<Attributes> = it.collect();
+    if rest.is_empty() {
+        return Ok(first);
+    }
+    let mut out = Attributes {
+        arrays: Vec::new(),
+        active: first.active.clone(),
+        lookup_tables: Vec::new(),
+    };
+    let mut rest: Vec<Vec<DataArray>> = rest.into_iter().map(|a| a.arrays).collect();
+    for (k, r) in rest.iter().enumerate() {
+        if r.len() != first.arrays.len() {
+            return Err(FormatError::whole(format!(
+                "piece {} has {} {what} arrays but piece 0 has {}",
+                k + 1,
+                r.len(),
+                first.arrays.len()
+            )));
+        }
+    }
+    for a in first.arrays {
+        let mut parts = vec![a.data];
+        for (k, r) in rest.iter_mut().enumerate() {
+            let pos = r.iter().position(|b| b.name == a.name).ok_or_else(|| {
+                FormatError::whole(format!(
+                    "piece {} has no {what} array '{}' (piece 0 has)",
+                    k + 1,
+                    a.name
+                ))
+            })?;
+            let b = r.swap_remove(pos);
+            if b.components != a.components {
+                return Err(FormatError::in_array(
+                    &a.name,
+                    format!(
+                        "piece {} has {} components, piece 0 has {}",
+                        k + 1,
+                        b.components,
+                        a.components
+                    ),
+                ));
+            }
+            parts.push(b.data);
+        }
+        out.arrays.push(DataArray {
+            data: concat(parts, &a.name)?,
+            ..DataArray::new(a.name, a.components, ArrayData::UInt8(Vec::new()))
+        });
+        let last = out.arrays.len() - 1;
+        out.arrays[last].component_names = a.component_names;
+    }
+    Ok(out)
+}
+
+/// Concatenates pieces: point ids of piece k shift by the points of pieces before it.
+pub(crate) fn merge(mut pieces: Vec<Grid>) -> Result<Grid> {
+    if pieces.len() <= 1 {
+        return Ok(pieces.pop().unwrap_or_default());
+    }
+    let any_faces = pieces.iter().any(|p| p.cells.polyhedron_faces.is_some());
+    let mut cells = Cells::new();
+    let mut faces: Vec<i64> = Vec::new();
+    let mut faceoffsets: Vec<i64> = Vec::new();
+    let mut point_base = 0i64;
+    let mut points = Vec::new();
+    let mut pds = Vec::new();
+    let mut cds = Vec::new();
+    let points_name = pieces[0].points.name.clone();
+    for p in pieces {
+        let conn_base = cells.connectivity.len() as i64;
+        cells.types.extend_from_slice(&p.cells.types);
+        cells
+            .offsets
+            .extend(p.cells.offsets[1..].iter().map(|&o| o + conn_base));
+        cells
+            .connectivity
+            .extend(p.cells.connectivity.iter().map(|&c| c + point_base));
+        if any_faces {
+            let face_base = faces.len() as i64;
+            match &p.cells.polyhedron_faces {
+                Some((f, fo)) => {
+                    shift_faces(f, fo, point_base, &mut faces);
+                    faceoffsets.extend(fo.iter().map(|&o| if o < 0 { o } else { o + face_base }));
+                }
+                None => faceoffsets.extend(std::iter::repeat(-1).take(p.cells.types.len())),
+            }
+        }
+        point_base += p.num_points() as i64;
+        points.push(p.points.data);
+        pds.push(p.point_data);
+        cds.push(p.cell_data);
+    }
+    if any_faces {
+        cells.polyhedron_faces = Some((faces, faceoffsets));
+    }
+    Ok(Grid {
+        points: DataArray::new(points_name, 3, concat(points, "Points")?),
+        cells,
+        point_data: merge_attributes(pds, "point data")?,
+        cell_data: merge_attributes(cds, "cell data")?,
+        field_data: Vec::new(),
+    })
+}
+
+/// Appends `f` to `out` with every point id (not the counts) shifted by `base`.
+fn shift_faces(f: &[i64], fo: &[i64], base: i64, out: &mut Vec<i64>) {
+    let mut start = 0usize;
+    for &end in fo {
+        if end < 0 {
+            continue;
+        }
+        let s = &f[start..end as usize];
+        let mut k = 0;
+        if let Some(&nf) = s.first() {
+            out.push(nf);
+            k = 1;
+            for _ in 0..nf {
+                let n = s[k] as usize;
+                out.push(s[k]);
+                out.extend(s[k + 1..k + 1 + n].iter().map(|&id| id + base));
+                k += 1 + n;
+            }
+        }
+        debug_assert_eq!(k, s.len());
+        start = end as usize;
+    }
+}

@@ -1,0 +1,443 @@
+//! The XML structure of a .vtu, read with quick-xml events: which arrays exist, their attributes,
+//! and their inline text; stops at `<AppendedData>` (binary follows, which is not XML).
+
+use super::{ByteOrder, Compressor, HeaderType, Layout};
+use crate::{Attribute, FormatError, Result, ScalarType};
+use quick_xml::events::{BytesStart, Event};
+use std::io::BufRead;
+
+/// How an array's values are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum DataFormat {
+    Ascii,
+    Binary,
+    Appended,
+}
+
+/// Element type of an array in the file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ElemType {
+    Num(ScalarType),
+    String,
+}
+
+/// One `<DataArray>` or `<Array>` element.
+#[derive(Clone, Debug)]
+pub(crate) struct ArrayXml {
+    pub name: String,
+    pub ty: ElemType,
+    pub components: usize,
+    pub component_names: Vec<String>,
+    pub tuples: Option<usize>,
+    pub format: DataFormat,
+    pub offset: Option<u64>,
+    /// Inline text (ascii values or base64), as in the file.
+    pub text: Vec<u8>,
+    /// File offset of the first byte of `text`.
+    pub text_pos: u64,
+    /// File offset of the element's start tag.
+    pub tag_pos: u64,
+}
+
+/// `<PointData>` or `<CellData>`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AttributesXml {
+    pub arrays: Vec<ArrayXml>,
+    pub active: Vec<(Attribute, String)>,
+}
+
+/// One `<Piece>`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PieceXml {
+    pub num_points: usize,
+    pub num_cells: usize,
+    pub point_data: AttributesXml,
+    pub cell_data: AttributesXml,
+    pub points: Option<ArrayXml>,
+    /// connectivity, offsets, types, faces, faceoffsets, in file order.
+    pub cells: Vec<ArrayXml>,
+    pub tag_pos: u64,
+}
+
+/// Where the appended block is.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct AppendedXml {
+    pub raw: bool,
+    /// File offset just after the `<AppendedData ...>` tag (the `_` marker follows, after blanks).
+    pub tag_end: u64,
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Document {
+    pub layout: Layout,
+    pub field_data: Vec<ArrayXml>,
+    pub pieces: Vec<PieceXml>,
+    pub appended: Option<AppendedXml>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Ctx {
+    File,
+    Grid,
+    FieldData,
+    Piece,
+    PointData,
+    CellData,
+    Points,
+    Cells,
+    Array,
+    Other,
+}
+
+fn xml_err(pos: u64, e: impl std::fmt::Display) -> FormatError {
+    FormatError::at_byte(pos, format!("malformed XML: {e}"))
+}
+
+/// Attributes of a start tag as (name, unescaped value).
+fn attrs(e: &BytesStart, pos: u64) -> Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    for a in e.attributes().with_checks(true) {
+        let a = a.map_err(|err| xml_err(pos, err))?;
+        let key = String::from_utf8_lossy(a.key.as_ref()).into_owned();
+        let value = a.unescape_value().map_err(|err| xml_err(pos, err))?;
+        out.push((key, value.into_owned()));
+    }
+    Ok(out)
+}
+
+fn get<'a>(attrs: &'a [(String, String)], key: &str) -> Option<&'a str> {
+    attrs
+        .iter()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
+}
+
+pub(crate) fn parse_count(value: &str, what: &str, pos: u64) -> Result<usize> {
+    value.trim().parse::<usize>().map_err(|_| {
+        FormatError::at_byte(
+            pos,
+            format!("{what}=\"{value}\" is not a non-negative integer that fits this machine"),
+        )
+    })
+}
+
+fn layout_from(a: &[(String, String)], pos: u64) -> Result<Layout> {
+    let order = match get(a, "byte_order").unwrap_or("LittleEndian") {
+        "LittleEndian" => ByteOrder::LittleEndian,
+        "BigEndian" => ByteOrder::BigEndian,
+        other => {
+            return Err(FormatError::at_byte(
+                pos,
+                format!("unknown byte_order \"{other}\""),
+            ))
+        }
+    };
+    let header = match get(a, "header_type").unwrap_or("UInt32") {
+        "UInt32" => HeaderType::UInt32,
+        "UInt64" => HeaderType::UInt64,
+        other => {
+            return Err(FormatError::at_byte(
+                pos,
+                format!("unsupported header_type \"{other}\" (UInt32 or UInt64)"),
+            ))
+        }
+    };
+    let name = get(a, "compressor").unwrap_or("");
+    let compressor = Compressor::from_vtk_name(name)
+        .ok_or_else(|| FormatError::at_byte(pos, format!("unknown compressor \"{name}\"")))?;
+    Ok(Layout {
+        header,
+        order,
+        compressor,
+    })
+}
+
+fn array_from(a: &[(String, String)], pos: u64) -> Result<ArrayXml> {
+    let name = get(a, "Name").unwrap_or("").to_string();
+    let here = |msg: String| FormatError::at_byte(pos, format!("array '{name}': {msg}"));
+    let ty_name = get(a, "type").ok_or_else(|| here("no type attribute".into()))?;
+    let ty = match ty_name {
+        "String" => ElemType::String,
+        // VTK 9 writes vtkIdTypeArray as Int64/Int32; older files may say IdType (64-bit builds).
+        "IdType" => ElemType::Num(ScalarType::Int64),
+        t => ElemType::Num(ScalarType::from_xml_name(t).ok_or_else(|| {
+            here(format!(
+                "unsupported type \"{t}\" (Int8..UInt64, Float32, Float64, String)"
+            ))
+        })?),
+    };
+    let components = match get(a, "NumberOfComponents") {
+        Some(v) => parse_count(v, "NumberOfComponents", pos)?,
+        None => 1,
+    };
+    if components == 0 {
+        return Err(here("NumberOfComponents is 0".into()));
+    }
+    let mut component_names = Vec::new();
+    for i in 0..components.min(4096) {
+        match get(a, &format!("ComponentName{i}")) {
+            Some(n) => {
+                component_names.resize(i, String::new());
+                component_names.push(n.to_string());
+            }
+            None => continue,
+        }
+    }
+    if !component_names.is_empty() {
+        component_names.resize(components, String::new());
+    }
+    let tuples = match get(a, "NumberOfTuples") {
+        Some(v) => Some(parse_count(v, "NumberOfTuples", pos)?),
+        None => None,
+    };
+    let format = match get(a, "format").unwrap_or("ascii") {
+        "ascii" => DataFormat::Ascii,
+        "binary" => DataFormat::Binary,
+        "appended" => DataFormat::Appended,
+        other => return Err(here(format!("unknown format \"{other}\""))),
+    };
+    let offset = match get(a, "offset") {
+        Some(v) => Some(
+            v.trim()
+                .parse::<u64>()
+                .map_err(|_| here(format!("offset=\"{v}\" is not a non-negative integer")))?,
+        ),
+        None => None,
+    };
+    if format == DataFormat::Appended && offset.is_none() {
+        return Err(here("format=\"appended\" without an offset".into()));
+    }
+    Ok(ArrayXml {
+        name,
+        ty,
+        components,
+        component_names,
+        tuples,
+        format,
+        offset,
+        text: Vec::new(),
+        text_pos: 0,
+        tag_pos: pos,
+    })
+}
+
+fn active_from(a: &[(String, String)]) -> Vec<(Attribute, String)> {
+    Attribute::ALL
+        .iter()
+        .filter_map(|&r| get(a, r.xml_name()).map(|n| (r, n.to_string())))
+        .collect()
+}
+
+/// Reads the XML part of a .vtu from `r` (positioned at the start of the file).
+pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
+    let mut reader = quick_xml::Reader::from_reader(r);
+    reader.config_mut().trim_text(false);
+    reader.config_mut().check_end_names = true;
+    let mut buf = Vec::new();
+    let mut stack: Vec<Ctx> = Vec::new();
+    let mut doc = Document {
+        layout: Layout {
+            header: HeaderType::UInt32,
+            order: ByteOrder::LittleEndian,
+            compressor: Compressor::None,
+        },
+        field_data: Vec::new(),
+        pieces: Vec::new(),
+        appended: None,
+    };
+    let mut seen_root = false;
+    // The array whose text is being collected, and the context it belongs to.
+    let mut current: Option<(ArrayXml, Ctx)> = None;
+    loop {
+        let pos = reader.buffer_position();
+        buf.clear();
+        let ev = reader
+            .read_event_into(&mut buf)
+            .map_err(|e| xml_err(reader.error_position(), e))?;
+        let (e, empty) = match ev {
+            Event::Start(e) => (e, false),
+            Event::Empty(e) => (e, true),
+            Event::End(_) => {
+                let top = stack.pop();
+                if top == Some(Ctx::Array) {
+                    if let Some((a, parent)) = current.take() {
+                        attach(&mut doc, parent, a, pos)?;
+                    }
+                }
+                continue;
+            }
+            Event::Text(t) => {
+                if let (Some(Ctx::Array), Some((a, _))) = (stack.last(), current.as_mut()) {
+                    if a.text.is_empty() {
+                        a.text_pos = pos;
+                    }
+                    a.text.extend_from_slice(t.as_ref());
+                }
+                continue;
+            }
+            Event::CData(t) => {
+                if let (Some(Ctx::Array), Some((a, _))) = (stack.last(), current.as_mut()) {
+                    if a.text.is_empty() {
+                        a.text_pos = pos + 9;
+                    }
+                    a.text.extend_from_slice(t.as_ref());
+                }
+                continue;
+            }
+            Event::DocType(_) => return Err(FormatError::at_byte(
+                pos,
+                "a DOCTYPE declaration is not allowed in a VTK file (refused: entity expansion)",
+            )),
+            Event::Eof => break,
+            Event::Comment(_) | Event::Decl(_) | Event::PI(_) => continue,
+        };
+        let local = e.local_name();
+        let tag = local.as_ref();
+        let parent = stack.last().copied();
+        let a = attrs(&e, pos)?;
+        let ctx = match (parent, tag) {
+            (None, b"VTKFile") => {
+                if seen_root {
+                    return Err(FormatError::at_byte(pos, "a second <VTKFile> element"));
+                }
+                seen_root = true;
+                match get(&a, "type") {
+                    Some("UnstructuredGrid") => {}
+                    Some("PUnstructuredGrid") => {
+                        return Err(FormatError::at_byte(
+                            pos,
+                            "this is a parallel file (PUnstructuredGrid): name it .pvtu",
+                        ))
+                    }
+                    other => {
+                        return Err(FormatError::at_byte(
+                            pos,
+                            format!(
+                                "VTKFile type is {:?}, expected \"UnstructuredGrid\"",
+                                other.unwrap_or("(none)")
+                            ),
+                        ))
+                    }
+                }
+                doc.layout = layout_from(&a, pos)?;
+                Ctx::File
+            }
+            (None, _) => {
+                return Err(FormatError::at_byte(
+                    pos,
+                    format!(
+                        "root element is <{}>, expected <VTKFile>",
+                        String::from_utf8_lossy(tag)
+                    ),
+                ))
+            }
+            (Some(Ctx::File), b"UnstructuredGrid") => Ctx::Grid,
+            (Some(Ctx::File), b"AppendedData") => {
+                let raw = match get(&a, "encoding").unwrap_or("raw") {
+                    "raw" => true,
+                    "base64" => false,
+                    other => {
+                        return Err(FormatError::at_byte(
+                            pos,
+                            format!("unknown AppendedData encoding \"{other}\""),
+                        ))
+                    }
+                };
+                if empty {
+                    break;
+                }
+                doc.appended = Some(AppendedXml {
+                    raw,
+                    tag_end: reader.buffer_position(),
+                });
+                break;
+            }
+            (Some(Ctx::Grid), b"FieldData") | (Some(Ctx::Piece), b"FieldData") => Ctx::FieldData,
+            (Some(Ctx::Grid), b"Piece") => {
+                let np = parse_count(
+                    get(&a, "NumberOfPoints").unwrap_or("0"),
+                    "NumberOfPoints",
+                    pos,
+                )?;
+                let nc = parse_count(
+                    get(&a, "NumberOfCells").unwrap_or("0"),
+                    "NumberOfCells",
+                    pos,
+                )?;
+                doc.pieces.push(PieceXml {
+                    num_points: np,
+                    num_cells: nc,
+                    tag_pos: pos,
+                    ..PieceXml::default()
+                });
+                Ctx::Piece
+            }
+            (Some(Ctx::Piece), b"PointData") => {
+                last_piece(&mut doc, pos)?.point_data.active = active_from(&a);
+                Ctx::PointData
+            }
+            (Some(Ctx::Piece), b"CellData") => {
+                last_piece(&mut doc, pos)?.cell_data.active = active_from(&a);
+                Ctx::CellData
+            }
+            (Some(Ctx::Piece), b"Points") => Ctx::Points,
+            (Some(Ctx::Piece), b"Cells") => Ctx::Cells,
+            (
+                Some(
+                    p
+                    @ (Ctx::FieldData | Ctx::PointData | Ctx::CellData | Ctx::Points | Ctx::Cells),
+                ),
+                b"DataArray" | b"Array",
+            ) => {
+                let arr = array_from(&a, pos)?;
+                if empty {
+                    attach(&mut doc, p, arr, pos)?;
+                    continue;
+                }
+                current = Some((arr, p));
+                Ctx::Array
+            }
+            _ => Ctx::Other,
+        };
+        if !empty {
+            stack.push(ctx);
+        }
+    }
+    if !seen_root {
+        return Err(FormatError::at_byte(0, "no <VTKFile> element"));
+    }
+    if doc.appended.is_none() && !stack.is_empty() {
+        return Err(FormatError::at_byte(
+            reader.buffer_position(),
+            "the file ends before its XML is closed (truncated?)",
+        ));
+    }
+    Ok(doc)
+}
+
+fn last_piece(doc: &mut Document, pos: u64) -> Result<&mut PieceXml> {
+    doc.pieces
+        .last_mut()
+        .ok_or_else(|| FormatError::at_byte(pos, "data outside a <Piece>"))
+}
+
+fn attach(doc: &mut Document, parent: Ctx, a: ArrayXml, pos: u64) -> Result<()> {
+    match parent {
+        Ctx::FieldData => doc.field_data.push(a),
+        Ctx::PointData => last_piece(doc, pos)?.point_data.arrays.push(a),
+        Ctx::CellData => last_piece(doc, pos)?.cell_data.arrays.push(a),
+        Ctx::Points => {
+            let p = last_piece(doc, pos)?;
+            if p.points.is_some() {
+                return Err(FormatError::at_byte(
+                    a.tag_pos,
+                    "a second array inside <Points>",
+                ));
+            }
+            p.points = Some(a);
+        }
+        Ctx::Cells => last_piece(doc, pos)?.cells.push(a),
+        _ => {}
+    }
+    Ok(())
+}
