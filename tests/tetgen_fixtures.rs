@@ -235,3 +235,55 @@ fn info_and_convert_run_on_the_readme_fixture() {
     let back = formats::read(&vtk).unwrap();
     same_grid(&back, &read("sphere")).unwrap();
 }
+
+#[test]
+fn written_tetgen_files_read_back_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["sphere", "regions", "quadratic", "torus"] {
+        let mut g = read(name);
+        let out = dir.path().join(format!("{name}.2.node"));
+        formats::write(&out, &g, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        let back = formats::read(&out).unwrap();
+        // `neighbors` is not written (tetgen -n recomputes it); everything else comes back.
+        g.cell_data.arrays.retain(|a| a.name != "neighbors");
+        same_grid(&back, &g).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(!dir.path().join(format!("{name}.2.neigh")).exists());
+    }
+}
+
+#[test]
+fn tetgen_writer_refuses_other_cells_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = formats::read(&root().join("fixtures/legacy/mixed_51_binary.vtk")).unwrap();
+    let out = dir.path().join("mixed.ele");
+    let e = formats::write(&out, &g, &Default::default()).unwrap_err();
+    assert!(e.message.contains("tetrahedralize"), "{e}");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "no partial files"
+    );
+}
+
+#[test]
+fn rewriting_without_faces_removes_stale_face_and_neigh_files() {
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["node", "ele", "face", "neigh"] {
+        std::fs::copy(
+            root().join(format!("fixtures/tetgen/sphere.1.{ext}")),
+            dir.path().join(format!("s.{ext}")),
+        )
+        .unwrap();
+    }
+    let mut g = read("sphere");
+    let (_, nt, _) = logged("sphere");
+    let keep: Vec<usize> = (0..nt).collect();
+    g.cells.types.truncate(nt);
+    g.cells.offsets.truncate(nt + 1);
+    g.cells.connectivity.truncate(4 * nt);
+    g.cell_data = g.cell_data.gather(&keep);
+    formats::write(&dir.path().join("s.node"), &g, &Default::default()).unwrap();
+    assert!(!dir.path().join("s.face").exists() && !dir.path().join("s.neigh").exists());
+    let back = formats::read(&dir.path().join("s.ele")).unwrap();
+    assert_eq!(back.num_cells(), nt);
+}

@@ -110,6 +110,29 @@ impl<'a> Cursor<'a> {
         Ok(s)
     }
 
+    /// Where value `k` of a block whose keyword line ends at or after `at` is: its byte offset in
+    /// binary data (`size` bytes each), its token in text. Only errors call this.
+    pub fn value_at(&self, at: usize, k: usize, size: usize) -> usize {
+        if self.binary {
+            let start = memchr_nl(&self.bytes[at.min(self.bytes.len())..])
+                .map_or(self.bytes.len(), |i| at + i + 1);
+            return start.saturating_add(k.saturating_mul(size));
+        }
+        let mut c = Cursor {
+            bytes: self.bytes,
+            pos: at,
+            binary: false,
+        };
+        let mut p = at;
+        for _ in 0..=k {
+            match c.token() {
+                Some((q, _)) => p = q,
+                None => break,
+            }
+        }
+        p
+    }
+
     /// 1-based line number of byte `pos`.
     pub fn line_at(&self, pos: usize) -> usize {
         let end = pos.min(self.bytes.len());

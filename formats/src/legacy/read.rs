@@ -12,11 +12,14 @@ use crate::{cell_type, ArrayData, Cells, DataArray, Grid, Result};
 enum RawCells {
     /// 4.2: `npts id id ...` per cell; `at` is where the block started (for errors).
     Counts { n: usize, data: Vec<i64>, at: usize },
-    /// 5.1: offsets (cells + 1) and connectivity.
+    /// 5.1: offsets (cells + 1) and connectivity; `conn_at`/`conn_size` locate CONNECTIVITY's
+    /// values for errors.
     Offsets {
         offsets: Vec<i64>,
         conn: Vec<i64>,
         at: usize,
+        conn_at: usize,
+        conn_size: usize,
     },
 }
 
@@ -60,7 +63,19 @@ pub fn read(bytes: &[u8]) -> Result<Grid> {
             let total = n
                 .checked_mul(3)
                 .ok_or_else(|| cur.err(p, format!("{n} points overflows")))?;
+            let at = cur.pos;
             let data = read_numeric(&mut cur, ty, total, "POINTS")?;
+            // Grid::validate refuses these too, but only here is the place known.
+            if let Some(k) = first_non_finite(&data) {
+                return Err(cur.err(
+                    cur.value_at(at, k, ty.binary_size()),
+                    format!(
+                        "POINTS: coordinate {k} (point {}) is {}, not finite",
+                        k / 3,
+                        data.get_f64(k)
+                    ),
+                ));
+            }
             let mut points = DataArray::new("Points", 3, data);
             if let Some(names) = read_metadata(&mut cur, 3)? {
                 points.component_names = names;
@@ -126,9 +141,17 @@ pub fn read(bytes: &[u8]) -> Result<Grid> {
             return Err(cur.err(p, "CELL_TYPES given but no CELLS"))
         }
         (None, Some(_)) => Cells::new(),
-        (Some(raw), Some((t, p))) => assemble(&cur, raw, t, p)?,
+        (Some(raw), Some((t, p))) => assemble(&cur, raw, t, p, grid.num_points())?,
     };
     Ok(grid)
+}
+
+fn first_non_finite(d: &ArrayData) -> Option<usize> {
+    match d {
+        ArrayData::Float32(v) => v.iter().position(|x| !x.is_finite()),
+        ArrayData::Float64(v) => v.iter().position(|x| !x.is_finite()),
+        _ => None,
+    }
 }
 
 fn upsert(v: &mut Vec<DataArray>, a: DataArray) {
@@ -182,13 +205,24 @@ fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
                 ));
             }
             let ty = read_type(cur, "CONNECTIVITY")?;
-            let q = cur.pos;
+            let conn_at = cur.pos;
             let conn = read_numeric(cur, ty, b, "CONNECTIVITY")?;
-            let conn = to_i64(cur, q, "CONNECTIVITY", conn)?;
+            let conn = to_i64(cur, conn_at, "CONNECTIVITY", conn)?;
             read_metadata(cur, 1)?;
-            Ok(RawCells::Offsets { offsets, conn, at })
+            Ok(RawCells::Offsets {
+                offsets,
+                conn,
+                at,
+                conn_at,
+                conn_size: ty.binary_size(),
+            })
         }
         _ => {
+            // Each cell takes at least its count entry.
+            if a > b {
+                return Err(cur.err(at, format!("CELLS declares {a} cells in {b} integers")));
+            }
+            let at = cur.pos;
             let v: Vec<i32> = read_values(cur, b, "CELLS")?;
             Ok(RawCells::Counts {
                 n: a,
@@ -199,11 +233,34 @@ fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
     }
 }
 
-/// Builds offsets/connectivity from the raw cells, checking every count against what is there,
-/// and expands polyhedron face streams.
-fn assemble(cur: &Cursor<'_>, raw: RawCells, types: Vec<u8>, types_at: usize) -> Result<Cells> {
+/// Builds offsets/connectivity from the raw cells, checking every count and point id against
+/// what is there, and expands polyhedron face streams.
+fn assemble(
+    cur: &Cursor<'_>,
+    raw: RawCells,
+    types: Vec<u8>,
+    types_at: usize,
+    np: usize,
+) -> Result<Cells> {
+    let np = np as i64;
+    let out_of_range = |x: i64| x < 0 || x >= np;
+    let count_check = |ncells: usize| {
+        if types.len() != ncells {
+            return Err(cur.err(
+                types_at,
+                format!("CELL_TYPES has {} entries for {ncells} cells", types.len()),
+            ));
+        }
+        Ok(())
+    };
     let (offsets, conn, at) = match raw {
-        RawCells::Offsets { offsets, conn, at } => {
+        RawCells::Offsets {
+            offsets,
+            conn,
+            at,
+            conn_at,
+            conn_size,
+        } => {
             let offsets = if offsets.is_empty() { vec![0] } else { offsets };
             if offsets[0] != 0 {
                 return Err(cur.err(at, format!("OFFSETS starts at {}, expected 0", offsets[0])));
@@ -228,21 +285,35 @@ fn assemble(cur: &Cursor<'_>, raw: RawCells, types: Vec<u8>, types_at: usize) ->
                     ),
                 ));
             }
+            count_check(offsets.len() - 1)?;
+            let bad = if types.contains(&cell_type::POLYHEDRON) {
+                (0..types.len())
+                    .filter(|&i| types[i] != cell_type::POLYHEDRON)
+                    .find_map(|i| {
+                        let (s, e) = (offsets[i] as usize, offsets[i + 1] as usize);
+                        conn[s..e]
+                            .iter()
+                            .position(|&x| out_of_range(x))
+                            .map(|m| s + m)
+                    })
+            } else {
+                conn.iter().position(|&x| out_of_range(x))
+            };
+            if let Some(k) = bad {
+                return Err(cur.err(
+                    cur.value_at(conn_at, k, conn_size),
+                    format!("CONNECTIVITY: point id {} is outside 0..{np}", conn[k]),
+                ));
+            }
             (offsets, conn, at)
         }
         RawCells::Counts { n, data, at } => {
-            // Each cell takes at least its count entry.
-            if n > data.len() {
-                return Err(cur.err(
-                    at,
-                    format!("CELLS declares {n} cells in {} integers", data.len()),
-                ));
-            }
+            count_check(n)?;
             let mut offsets = Vec::with_capacity(n + 1);
             offsets.push(0i64);
             let mut conn = Vec::with_capacity(data.len() - n);
             let mut k = 0usize;
-            for i in 0..n {
+            for (i, &ty) in types.iter().enumerate() {
                 let npts = data.get(k).copied().ok_or_else(|| {
                     cur.err(at, format!("CELLS: the data ends before cell {i} of {n}"))
                 })?;
@@ -258,7 +329,16 @@ fn assemble(cur: &Cursor<'_>, raw: RawCells, types: Vec<u8>, types_at: usize) ->
                             ),
                         )
                     })?;
-                conn.extend_from_slice(&data[k + 1..end]);
+                let ids = &data[k + 1..end];
+                if ty != cell_type::POLYHEDRON {
+                    if let Some(m) = ids.iter().position(|&x| out_of_range(x)) {
+                        return Err(cur.err(
+                            cur.value_at(at, k + 1 + m, 4),
+                            format!("CELLS: cell {i} has point id {} outside 0..{np}", ids[m]),
+                        ));
+                    }
+                }
+                conn.extend_from_slice(ids);
                 offsets.push(conn.len() as i64);
                 k = end;
             }
@@ -274,13 +354,6 @@ fn assemble(cur: &Cursor<'_>, raw: RawCells, types: Vec<u8>, types_at: usize) ->
             (offsets, conn, at)
         }
     };
-    let ncells = offsets.len() - 1;
-    if types.len() != ncells {
-        return Err(cur.err(
-            types_at,
-            format!("CELL_TYPES has {} entries for {ncells} cells", types.len()),
-        ));
-    }
     if !types.contains(&cell_type::POLYHEDRON) {
         return Ok(Cells {
             types,
@@ -289,7 +362,7 @@ fn assemble(cur: &Cursor<'_>, raw: RawCells, types: Vec<u8>, types_at: usize) ->
             polyhedron_faces: None,
         });
     }
-    expand_polyhedra(cur, at, types, &offsets, &conn)
+    expand_polyhedra(cur, at, types, &offsets, &conn, np)
 }
 
 /// A polyhedron's entry is its face stream `nfaces, n0, ids.., n1, ids..`; VTK keeps the sorted
@@ -300,6 +373,7 @@ fn expand_polyhedra(
     types: Vec<u8>,
     offsets: &[i64],
     conn: &[i64],
+    np: i64,
 ) -> Result<Cells> {
     let mut cells = Cells::new();
     let mut faces = Vec::new();
@@ -317,19 +391,23 @@ fn expand_polyhedra(
         let mut k = 1usize;
         let mut ids = Vec::new();
         for f in 0..nf {
-            let np = *s
+            let nfp = *s
                 .get(k)
                 .ok_or_else(|| bad(&format!("the stream ends before face {f}")))?;
-            let end = usize::try_from(np)
+            let end = usize::try_from(nfp)
                 .ok()
                 .and_then(|m| (k + 1).checked_add(m))
                 .filter(|&e| e <= s.len())
                 .ok_or_else(|| {
                     bad(&format!(
-                        "face {f} declares {np} points, more than the stream holds"
+                        "face {f} declares {nfp} points, more than the stream holds"
                     ))
                 })?;
-            ids.extend_from_slice(&s[k + 1..end]);
+            let face = &s[k + 1..end];
+            if let Some(&x) = face.iter().find(|&&x| x < 0 || x >= np) {
+                return Err(bad(&format!("face {f} has point id {x}, outside 0..{np}")));
+            }
+            ids.extend_from_slice(face);
             k = end;
         }
         if k != s.len() {

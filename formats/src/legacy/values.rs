@@ -18,6 +18,15 @@ pub(crate) enum LegacyType {
 }
 
 impl LegacyType {
+    /// Bytes per value in binary files (for error offsets; bits and strings have no fixed size).
+    pub fn binary_size(self) -> usize {
+        match self {
+            LegacyType::Num(t) => t.size(),
+            LegacyType::IdType => 4,
+            LegacyType::Bit | LegacyType::String => 1,
+        }
+    }
+
     pub fn parse(t: &[u8]) -> Option<LegacyType> {
         use ScalarType::*;
         let n = |s| LegacyType::Num(s);
@@ -218,7 +227,17 @@ fn read_bits(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<u8>, Form
 /// a big-endian length whose top two bits say its width (11: 6-bit in 1 byte, 10: 14-bit in 2,
 /// 01: 30-bit in 4, 00: 62-bit in 8), as vtkDataWriter writes them.
 fn read_strings(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<String>, FormatError> {
-    let mut out = Vec::with_capacity(n.min(cur.remaining() + 1));
+    if n > cur.remaining() {
+        return Err(cur.err(
+            cur.pos,
+            format!(
+                "{what}: declares {n} strings but only {} bytes remain",
+                cur.remaining()
+            ),
+        ));
+    }
+    // Each string is at least one byte, but a String is 24: grow instead of trusting `n`.
+    let mut out = Vec::with_capacity(n.min(4096));
     if cur.binary {
         cur.begin_binary();
         for i in 0..n {

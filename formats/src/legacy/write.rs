@@ -24,6 +24,7 @@ fn io_err(e: io::Error) -> FormatError {
 pub fn write(w: &mut dyn Write, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     let binary = opts.encoding != Encoding::Ascii;
     let version = opts.legacy_version;
+    check_names(grid)?;
     let cells = cell_streams(grid)?;
     if version == LegacyVersion::V42 {
         check_32bit(&cells)?;
@@ -143,6 +144,23 @@ fn cell_streams(grid: &Grid) -> Result<Streams> {
         out.offsets.push(out.conn.len() as i64);
     }
     Ok(out)
+}
+
+/// Names are whitespace-separated tokens in legacy files, so an empty one cannot be written.
+fn check_names(grid: &Grid) -> Result<()> {
+    for (what, arrays) in [
+        ("point", &grid.point_data.arrays),
+        ("cell", &grid.cell_data.arrays),
+        ("field", &grid.field_data),
+    ] {
+        if let Some(k) = arrays.iter().position(|a| a.name.is_empty()) {
+            return Err(FormatError::new(
+                crate::Place::Other(format!("{what} data array {k}")),
+                "legacy VTK needs a name for every array, and this one has none",
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn check_32bit(s: &Streams) -> Result<()> {

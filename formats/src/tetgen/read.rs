@@ -59,9 +59,10 @@ struct Eles {
     first: i64,
 }
 
-/// Room for `n` records, bounded by what the file can hold (a record takes at least 2 bytes).
+/// Room for `n` records of `per_record` values, bounded by what the file can hold (a value takes
+/// at least 2 bytes).
 fn capacity(n: usize, r: &Records<'_>, per_record: usize) -> usize {
-    n.min(r.remaining() / 2 + 1).saturating_mul(per_record)
+    n.saturating_mul(per_record).min(r.remaining() / 2 + 1)
 }
 
 /// Checks a record's leading number: consecutive from the first record's number, which must
