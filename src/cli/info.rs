@@ -56,8 +56,13 @@ fn print_arrays(title: &str, arrays: &[DataArray]) {
             None => "-".to_string(),
         };
         let mag = if a.components > 1 { " (magnitude)" } else { "" };
+        let names = if a.component_names.is_empty() {
+            String::new()
+        } else {
+            format!("  components ({})", a.component_names.join(", "))
+        };
         println!(
-            "  {:<24} {:<8} {:>2} comp  {:>10} tuples  range {range}{mag}",
+            "  {:<24} {:<8} {:>2} comp  {:>10} tuples  range {range}{mag}{names}",
             a.name,
             a.data.type_name(),
             a.components,

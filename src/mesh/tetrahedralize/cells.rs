@@ -288,7 +288,18 @@ pub fn split_table(
             n += !degenerate(&tris[n]) as usize;
         }
     }
-    split_tris(&tris[..n], pos, round)
+    // Each corner is fetched once: the children look every corner up several times, and on a
+    // big mesh with scattered ids each lookup would be a cache miss.
+    let mut corners = [[0.0f64; 3]; 12];
+    let m = ids.len().min(12);
+    for (c, &id) in corners.iter_mut().zip(&ids[..m]) {
+        *c = pos(id);
+    }
+    let cached = |id: i64| match ids[..m].iter().position(|&x| x == id) {
+        Some(k) => corners[k],
+        None => pos(id),
+    };
+    split_tris(&tris[..n], &cached, round)
 }
 
 /// A quadratic tetra's 8 linear children (no new point); tries the octahedron's diagonals from
