@@ -349,12 +349,15 @@ fn tet_surface(p: &[[f64; 3]; 4], tb: &Aabb, s: &TriSurface) -> bool {
     }
     let mut ids = Vec::new();
     s.candidates(tb, &mut ids);
+    // Boxes first (cheap), then each surviving triangle once.
+    ids.retain(|&ti| {
+        let v = s.tris[ti as usize].map(|i| s.points[i as usize]);
+        !(0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
+    });
+    ids.sort_unstable();
+    ids.dedup();
     for &ti in &ids {
         let v = s.tris[ti as usize].map(|i| s.points[i as usize]);
-        if (0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
-        {
-            continue;
-        }
         if tet_triangle(p, &v) {
             return true;
         }
