@@ -1,10 +1,425 @@
 //! `tetkit render`: projected tetrahedra or ray-cast reference image of a tet mesh.
 
+use anyhow::{bail, Context, Result};
 use clap::Args;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::camera_args::CameraArgs;
+use crate::camera::Camera;
+use crate::locate::{GridParams, Topology};
+use crate::mesh::TetMesh;
+use crate::render::field::Field;
+use crate::render::image::{parse_color, parse_size, Image};
+use crate::render::integrate::Integration;
+use crate::render::prepare::{self, TableSize};
+use crate::render::pt::{self, Shader, View};
+use crate::render::raycast::RayCaster;
+use crate::render::transfer::{named_colormap, read_preset, OpacitySpec, TransferFunction};
+use crate::sort::{Direction, Sorter};
+
+/// Which visibility order PT composites in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SortChoice {
+    /// The mesh's own cell order (no sort).
+    None,
+    /// Centroid depth (VTK's approximate sort).
+    Centroid,
+    /// Face adjacency over the whole mesh (MPVO).
+    Mpvo,
+    /// The K-D tree exact sort (leaves from the input's tree, else one leaf).
+    Kd,
+}
+
+impl SortChoice {
+    pub const ALL: [SortChoice; 4] = [
+        SortChoice::None,
+        SortChoice::Centroid,
+        SortChoice::Mpvo,
+        SortChoice::Kd,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            SortChoice::None => "none",
+            SortChoice::Centroid => "centroid",
+            SortChoice::Mpvo => "mpvo",
+            SortChoice::Kd => "kd",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum MethodChoice {
+    /// Projected tetrahedra in visibility order.
+    Pt,
+    /// The exact reference: per-pixel ray integration through the mesh.
+    Raycast,
+}
+
+/// Transfer-function and image options shared by `render` and `tradeoff`.
+#[derive(Args, Debug, Clone)]
+pub struct LookArgs {
+    /// Image size WIDTHxHEIGHT.
+    #[arg(long, default_value = "512x512", value_parser = parse_size_arg)]
+    pub size: (u32, u32),
+    /// Array to render (point data, else cell data; vectors by magnitude). Default: active point
+    /// scalars, else the first numeric array.
+    #[arg(long, value_name = "NAME")]
+    pub scalar: Option<String>,
+    /// Colormap name (cool-to-warm, viridis, inferno, ...) or a ParaView preset .json.
+    #[arg(long, default_value = "cool-to-warm", value_name = "NAME|preset.json")]
+    pub colormap: String,
+    /// Opacity: a constant (0.3), `ramp`, `ramp:A:B`, or points `t:a,t:a,...` with t in [0, 1]
+    /// across the scalar range. Default: the preset's opacity, else `ramp`.
+    #[arg(long, value_name = "SPEC")]
+    pub opacity: Option<String>,
+    /// Scalar range MIN,MAX the colormap spans (default: the array's range).
+    #[arg(long, value_name = "MIN,MAX", allow_hyphen_values = true)]
+    pub range: Option<String>,
+    /// ParaView's scalar opacity unit distance: the thickness at which a constant scalar reaches
+    /// its opacity (default: a fifth of the bounding-box diagonal).
+    #[arg(long, value_name = "D")]
+    pub unit_distance: Option<f64>,
+    /// Transfer-function nodes (piecewise linear between them).
+    #[arg(long, default_value_t = 64, value_name = "K")]
+    pub tf_nodes: usize,
+    /// Pre-integration table size SCALARxLENGTH.
+    #[arg(long, default_value = "128x32", value_name = "SxL")]
+    pub table: TableSize,
+    /// Background: black, white, #rrggbb or r,g,b in [0, 1].
+    #[arg(long, default_value = "black", value_parser = parse_color_arg)]
+    pub background: [f32; 3],
+    /// No progress bar or summary on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+fn parse_range(s: &str) -> Result<[f64; 2]> {
+    let parts: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| anyhow::anyhow!("--range '{s}': expected MIN,MAX"))?;
+    if parts.len() != 2 || parts.iter().any(|v| !v.is_finite()) {
+        bail!("--range '{s}': expected two finite numbers MIN,MAX");
+    }
+    Ok([parts[0], parts[1]])
+}
+
+fn parse_size_arg(s: &str) -> std::result::Result<(u32, u32), String> {
+    parse_size(s).map_err(|e| e.to_string())
+}
+
+fn parse_color_arg(s: &str) -> std::result::Result<[f32; 3], String> {
+    parse_color(s).map_err(|e| e.to_string())
+}
 
 #[derive(Args, Debug)]
-pub struct RenderArgs {}
+pub struct RenderArgs {
+    /// Tet mesh (.vtu, .vtk, .node/.ele), or - for stdin.
+    pub input: PathBuf,
+    /// Output PNG (with --orbit N: OUT_0000.png ... numbered frames).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    #[command(flatten)]
+    pub look: LookArgs,
+    /// Visibility order for PT.
+    #[arg(long, value_enum, default_value = "kd")]
+    pub sort: SortChoice,
+    /// Ray integration per PT fragment.
+    #[arg(long, value_enum, default_value = "preintegrated")]
+    pub integration: Integration,
+    /// Projected tetrahedra, or the exact ray-cast reference.
+    #[arg(long, value_enum, default_value = "pt")]
+    pub method: MethodChoice,
+    /// Render N frames turning about the focal point (azimuth 360/N each), reusing adjacency,
+    /// grid and tables.
+    #[arg(long, value_name = "N")]
+    pub orbit: Option<usize>,
+    /// Degrees between orbit frames (default 360/N).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub orbit_step: Option<f64>,
+}
 
-pub fn run(_args: &RenderArgs) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+/// A progress bar on stderr that appears only once work has run for a second, and never with
+/// --quiet or when stderr is not a terminal.
+pub struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+    start: Instant,
+    shown: bool,
+}
+
+impl Progress {
+    pub fn new(quiet: bool, len: u64, what: &str) -> Progress {
+        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+            let b = indicatif::ProgressBar::with_draw_target(
+                Some(len),
+                indicatif::ProgressDrawTarget::hidden(),
+            );
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{prefix} [{bar:30}] {pos}/{len} {msg} ({elapsed})",
+            ) {
+                b.set_style(style.progress_chars("=> "));
+            }
+            b.set_prefix(what.to_string());
+            b
+        });
+        Progress {
+            bar,
+            start: Instant::now(),
+            shown: false,
+        }
+    }
+
+    pub fn step(&mut self, msg: &str) {
+        if let Some(b) = &self.bar {
+            if !self.shown && self.start.elapsed().as_secs_f64() > 1.0 {
+                b.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+                self.shown = true;
+            }
+            b.set_message(msg.to_string());
+            b.inc(1);
+        }
+    }
+
+    pub fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// Everything a render of one mesh reuses between frames.
+pub struct Session {
+    pub mesh: TetMesh,
+    pub field_name: String,
+    pub field: Field,
+    pub tf: TransferFunction,
+    pub lmax: f64,
+    pub read_s: f64,
+}
+
+impl Session {
+    pub fn open(input: &Path, look: &LookArgs) -> Result<Session> {
+        let t0 = Instant::now();
+        let grid = super::read_input(input)?;
+        // Tets kept, other 3-D cells tetrahedralized, lower cells dropped (said on stderr).
+        let (mesh, _, notes) = crate::partition::input::tets_of(&grid, &input.display().to_string())?;
+        if !look.quiet {
+            for n in notes {
+                eprintln!("tetkit: {n}");
+            }
+        }
+        if mesh.tets.is_empty() {
+            bail!("{}: no tets to render", input.display());
+        }
+        let (field_name, field) = Field::select(&mesh, look.scalar.as_deref())
+            .with_context(|| format!("{}", input.display()))?;
+        field
+            .check(&mesh, &field_name)
+            .with_context(|| format!("{}", input.display()))?;
+        let range = match &look.range {
+            Some(r) => {
+                let v = parse_range(r)?;
+                if !(v[0] < v[1]) {
+                    bail!("--range {r}: MIN must be below MAX");
+                }
+                v
+            }
+            None => prepare::auto_range(&field),
+        };
+        let colors = if look.colormap.to_ascii_lowercase().ends_with(".json") {
+            read_preset(Path::new(&look.colormap))?
+        } else {
+            named_colormap(&look.colormap)?
+        };
+        let opacity = look
+            .opacity
+            .as_deref()
+            .map(OpacitySpec::parse)
+            .transpose()?;
+        let unit = match look.unit_distance {
+            Some(d) if d > 0.0 && d.is_finite() => d,
+            Some(d) => bail!("--unit-distance {d}: must be positive and finite"),
+            None => prepare::default_unit_distance(&mesh),
+        };
+        let tf = TransferFunction::build(&colors, opacity.as_ref(), range, unit, look.tf_nodes)?;
+        let lmax = prepare::longest_edge(&mesh);
+        Ok(Session {
+            mesh,
+            field_name,
+            field,
+            tf,
+            lmax,
+            read_s: t0.elapsed().as_secs_f64(),
+        })
+    }
+
+    pub fn bounds_camera(&self, args: &CameraArgs) -> Result<Camera> {
+        args.camera(&self.mesh.bounds())
+    }
+
+    /// The sorter (adjacency, leaves from the input's K-D tree when it carries one).
+    pub fn sorter(&self) -> Result<Sorter<'_>> {
+        let tree = crate::partition::KdTree::from_field_data(&self.mesh.field_data)?;
+        Sorter::new(&self.mesh, tree.as_ref())
+    }
+}
+
+/// A front-to-back order for PT.
+pub fn order_for(
+    sorter: Option<&Sorter>,
+    n: usize,
+    cam: &Camera,
+    sort: SortChoice,
+) -> (Vec<u32>, f64) {
+    let t0 = Instant::now();
+    let method = match sort {
+        SortChoice::None => return ((0..n as u32).collect(), 0.0),
+        SortChoice::Centroid => crate::sort::Method::Centroid,
+        SortChoice::Mpvo => crate::sort::Method::Mpvo,
+        SortChoice::Kd => crate::sort::Method::Kd,
+    };
+    let Some(s) = sorter else {
+        return ((0..n as u32).collect(), 0.0);
+    };
+    let o = s.order(cam, method, Direction::FrontToBack);
+    (o.order, t0.elapsed().as_secs_f64())
+}
+
+fn frame_path(out: &Path, i: usize, n: usize) -> PathBuf {
+    if n <= 1 {
+        return out.to_path_buf();
+    }
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "frame".into());
+    let ext = out
+        .extension()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "png".into());
+    out.with_file_name(format!("{stem}_{i:04}.{ext}"))
+}
+
+pub fn run(args: &RenderArgs) -> Result<()> {
+    let look = &args.look;
+    let frames = args.orbit.unwrap_or(1);
+    if frames == 0 {
+        bail!("--orbit 0: need at least one frame");
+    }
+    let step = args.orbit_step.unwrap_or(360.0 / frames as f64);
+    if !step.is_finite() {
+        bail!("--orbit-step must be finite");
+    }
+    let mut progress = Progress::new(look.quiet, 2 + frames as u64, "render");
+    let session = Session::open(&args.input, look)?;
+    progress.step("read");
+    let cam0 = session.bounds_camera(&args.camera)?;
+    let (w, h) = look.size;
+    let t_setup = Instant::now();
+    let mut summary = Vec::new();
+    match args.method {
+        MethodChoice::Pt => {
+            let sorter = match args.sort {
+                SortChoice::None => None,
+                _ => Some(session.sorter()?),
+            };
+            let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
+            let setup = t_setup.elapsed().as_secs_f64();
+            progress.step("setup");
+            for i in 0..frames {
+                let mut cam = cam0;
+                cam.azimuth(step * i as f64);
+                let t = Instant::now();
+                let (order, sort_s) = order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
+                let (img, stats, times) = pt_frame(&session, &cam, w, h, &order, &shader);
+                let frame_s = t.elapsed().as_secs_f64();
+                img.write_png(&frame_path(&args.output, i, frames), look.background)?;
+                summary.push(format!(
+                    "frame {i}: {frame_s:.3} s (sort {sort_s:.3}, project {:.3}, bin {:.3}, raster {:.3}); classes 1/2/3/4/flat {:?}, clipped {}, fragments {}",
+                    times.project, times.bin, times.raster, stats.class, stats.clipped, stats.fragments
+                ));
+                progress.step("frame");
+            }
+            summary.insert(
+                0,
+                format!(
+                    "{} tets, array '{}', read {:.3} s, setup (adjacency, leaves, table) {setup:.3} s",
+                    session.mesh.tets.len(),
+                    session.field_name,
+                    session.read_s
+                ),
+            );
+        }
+        MethodChoice::Raycast => {
+            let topo = Topology::build(&session.mesh.tets);
+            let rc = RayCaster::new(
+                &session.mesh.points,
+                &session.mesh.tets,
+                &session.field,
+                &topo,
+                GridParams::default(),
+            );
+            let setup = t_setup.elapsed().as_secs_f64();
+            progress.step("setup");
+            let (e, l) = (rc.entry.grid.stats, rc.locator.grid.stats);
+            summary.push(format!(
+                "{} tets, array '{}', read {:.3} s, setup (adjacency, grids) {setup:.3} s; entry grid over {} boundary faces: {:.2} cells and {:.2} references per face, depth {}; tet grid: {:.2} cells and {:.2} references per tet, depth {}",
+                session.mesh.tets.len(),
+                session.field_name,
+                session.read_s,
+                e.primitives,
+                e.cells_per_primitive(),
+                e.refs_per_primitive(),
+                e.depth,
+                l.cells_per_primitive(),
+                l.refs_per_primitive(),
+                l.depth
+            ));
+            for i in 0..frames {
+                let mut cam = cam0;
+                cam.azimuth(step * i as f64);
+                let t = Instant::now();
+                let (img, st) = rc.render(&session.tf, &cam, w, h);
+                let frame_s = t.elapsed().as_secs_f64();
+                img.write_png(&frame_path(&args.output, i, frames), look.background)?;
+                summary.push(format!(
+                    "frame {i}: {frame_s:.3} s; segments {}, re-entries {}, lost walks {}",
+                    st.segments, st.reentries, st.lost
+                ));
+                progress.step("frame");
+            }
+        }
+    }
+    progress.finish();
+    if !look.quiet {
+        for line in summary {
+            eprintln!("{line}");
+        }
+    }
+    Ok(())
+}
+
+/// One PT frame.
+pub fn pt_frame(
+    session: &Session,
+    cam: &Camera,
+    w: u32,
+    h: u32,
+    order: &[u32],
+    shader: &Shader,
+) -> (Image, pt::PtStats, pt::PtTimes) {
+    let view = View::new(cam, w, h);
+    pt::render(
+        &view,
+        &session.mesh.points,
+        &session.mesh.tets,
+        &session.field,
+        order,
+        shader,
+    )
 }

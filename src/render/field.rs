@@ -30,10 +30,29 @@ fn values(a: &DataArray) -> Result<Vec<f64>> {
 }
 
 impl Field {
-    /// The array named `name` (point data first, then cell data), or without a name the active
-    /// point scalars, else the first numeric point array, else the first numeric cell array.
+    /// The array named `name` (point data first, then cell data; `coord:x|y|z|r` for a field of
+    /// the point coordinates), or without a name the active point scalars, else the first numeric
+    /// point array, else the first numeric cell array, else a constant (solid colour).
     pub fn select(mesh: &TetMesh, name: Option<&str>) -> Result<(String, Field)> {
         let numeric = |a: &&DataArray| a.data.scalar_type().is_some();
+        if let Some(axis) = name.and_then(|n| n.strip_prefix("coord:")) {
+            // A field made from the points: x, y, z, or r (distance from the bounds' centre).
+            let c = mesh.bounds().center();
+            let f = |p: &[f64; 3]| match axis {
+                "x" => Some(p[0]),
+                "y" => Some(p[1]),
+                "z" => Some(p[2]),
+                "r" => Some(
+                    ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt(),
+                ),
+                _ => None,
+            };
+            let v: Option<Vec<f64>> = mesh.points.iter().map(f).collect();
+            return match v {
+                Some(v) => Ok((format!("coord:{axis}"), Field::Point(v))),
+                None => bail!("--scalar coord:{axis}: expected coord:x, coord:y, coord:z or coord:r"),
+            };
+        }
         if let Some(n) = name {
             if let Some(a) = mesh.point_data.get(n) {
                 return Ok((n.to_string(), Field::Point(values(a)?)));
@@ -71,7 +90,8 @@ impl Field {
         if let Some(a) = mesh.cell_data.arrays.iter().find(numeric) {
             return Ok((a.name.clone(), Field::Cell(values(a)?)));
         }
-        bail!("the mesh has no numeric point or cell array to render")
+        // Nothing to map: ParaView's "Solid Color", a constant field.
+        Ok(("(solid colour)".to_string(), Field::Point(vec![0.0; mesh.points.len()])))
     }
 
     /// Values at the four vertices of tet `t`.

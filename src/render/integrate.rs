@@ -214,8 +214,13 @@ impl FastTf {
         let x = ((s - self.s0) * self.inv_ds).clamp(0.0, self.last);
         let i = (x as usize).min(self.nodes.len() - 2);
         let t = x - i as f32;
-        let (a, b) = (self.nodes[i], self.nodes[i + 1]);
-        [0, 1, 2, 3].map(|k| a[k] + t * (b[k] - a[k]))
+        let (a, b) = (&self.nodes[i], &self.nodes[i + 1]);
+        [
+            a[0] + t * (b[0] - a[0]),
+            a[1] + t * (b[1] - a[1]),
+            a[2] + t * (b[2] - a[2]),
+            a[3] + t * (b[3] - a[3]),
+        ]
     }
 
     #[inline]
@@ -312,14 +317,21 @@ impl PreintTable {
         let ns = self.ns;
         let base = (k * ns + j) * ns + i;
         let d = &self.data;
-        let lerp4 =
-            |a: [f32; 4], b: [f32; 4], t: f32| [0, 1, 2, 3].map(|c| a[c] + t * (b[c] - a[c]));
+        #[inline(always)]
+        fn lerp4(a: &[f32; 4], b: &[f32; 4], t: f32) -> [f32; 4] {
+            [
+                a[0] + t * (b[0] - a[0]),
+                a[1] + t * (b[1] - a[1]),
+                a[2] + t * (b[2] - a[2]),
+                a[3] + t * (b[3] - a[3]),
+            ]
+        }
         let plane = |o: usize| {
-            let r0 = lerp4(d[o], d[o + 1], tf);
-            let r1 = lerp4(d[o + ns], d[o + ns + 1], tf);
-            lerp4(r0, r1, tb)
+            let r0 = lerp4(&d[o], &d[o + 1], tf);
+            let r1 = lerp4(&d[o + ns], &d[o + ns + 1], tf);
+            lerp4(&r0, &r1, tb)
         };
-        lerp4(plane(base), plane(base + ns * ns), tl)
+        lerp4(&plane(base), &plane(base + ns * ns), tl)
     }
 }
 

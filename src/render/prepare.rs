@@ -22,7 +22,7 @@ impl Default for TableSize {
     fn default() -> Self {
         TableSize {
             scalar: 128,
-            length: 64,
+            length: 32,
         }
     }
 }

@@ -1,0 +1,171 @@
+#!/usr/bin/python3
+"""Per-frame render time of tetkit against VTK 9.1, same mesh, view and image size, same run.
+
+For each size the script builds a tetrahedralized grid with VTK (vtkImageData through
+vtkDataSetTriangleFilter, point scalar x + 2y + 3z scaled to [0, 1]), writes it as legacy binary
+VTK, and times:
+  - VTK's vtkProjectedTetrahedraMapper (centroid sort, no pre-integration),
+  - VTK's vtkUnstructuredGridVolumeRayCastMapper (Bunyk, exact order),
+  - tetkit render --sort kd --integration preintegrated (exact PT),
+  - tetkit render --sort centroid --integration average (what VTK's PT does),
+  - tetkit render --method raycast (the exact reference).
+Per-frame time is the median over frames after a 2-degree turn each (setup excluded: VTK's first
+render, tetkit's read/adjacency/table setup, which tetkit reports separately).
+
+VTK needs an X server here:  xvfb-run -a scripts/bench_render_vtk.py --tets 200000 1000000
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import vtk
+
+COOL_TO_WARM = [
+    [0.230, 0.299, 0.754], [0.375, 0.486, 0.904], [0.552, 0.690, 0.996],
+    [0.720, 0.831, 0.996], [0.865, 0.865, 0.865], [0.957, 0.769, 0.678],
+    [0.969, 0.605, 0.481], [0.882, 0.373, 0.298], [0.706, 0.016, 0.150],
+]
+
+
+def make_mesh(target_tets, path):
+    # vtkDataSetTriangleFilter cuts each voxel of image data into 5 tets.
+    n = max(1, round((target_tets / 5.0) ** (1.0 / 3.0)))
+    img = vtk.vtkImageData()
+    img.SetDimensions(n + 1, n + 1, n + 1)
+    img.SetSpacing(1.0 / n, 1.0 / n, 1.0 / n)
+    img.SetOrigin(0.0, 0.0, 0.0)
+    arr = vtk.vtkDoubleArray()
+    arr.SetName("scalar")
+    arr.SetNumberOfTuples(img.GetNumberOfPoints())
+    for i in range(img.GetNumberOfPoints()):
+        x, y, z = img.GetPoint(i)
+        arr.SetValue(i, (x + 2 * y + 3 * z) / 6.0)
+    img.GetPointData().SetScalars(arr)
+    tri = vtk.vtkDataSetTriangleFilter()
+    tri.SetInputData(img)
+    tri.TetrahedraOnlyOn()
+    tri.Update()
+    ug = tri.GetOutput()
+    ug.GetPointData().SetActiveScalars("scalar")
+    w = vtk.vtkUnstructuredGridWriter()
+    w.SetFileTypeToBinary()
+    w.SetFileName(path)
+    w.SetInputData(ug)
+    w.Write()
+    return ug
+
+
+def vtk_time(ug, kind, frames, size, unit_distance):
+    if kind == "pt":
+        mapper = vtk.vtkProjectedTetrahedraMapper()
+    else:
+        mapper = vtk.vtkUnstructuredGridVolumeRayCastMapper()
+    mapper.SetInputData(ug)
+    ctf = vtk.vtkColorTransferFunction()
+    for i, c in enumerate(COOL_TO_WARM):
+        ctf.AddRGBPoint(i / (len(COOL_TO_WARM) - 1), *c)
+    otf = vtk.vtkPiecewiseFunction()
+    otf.AddPoint(0.0, 0.0)
+    otf.AddPoint(1.0, 1.0)
+    prop = vtk.vtkVolumeProperty()
+    prop.SetColor(ctf)
+    prop.SetScalarOpacity(otf)
+    prop.SetScalarOpacityUnitDistance(unit_distance)
+    prop.SetInterpolationTypeToLinear()
+    vol = vtk.vtkVolume()
+    vol.SetMapper(mapper)
+    vol.SetProperty(prop)
+    ren = vtk.vtkRenderer()
+    ren.AddVolume(vol)
+    win = vtk.vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(size, size)
+    win.AddRenderer(ren)
+    ren.ResetCamera()
+    cam = ren.GetActiveCamera()
+    cam.Azimuth(30)
+    cam.Elevation(20)
+    cam.OrthogonalizeViewUp()
+    ren.ResetCameraClippingRange()
+    t0 = time.perf_counter()
+    win.Render()
+    first = time.perf_counter() - t0
+    times = []
+    for _ in range(frames):
+        cam.Azimuth(2)
+        ren.ResetCameraClippingRange()
+        t0 = time.perf_counter()
+        win.Render()
+        times.append(time.perf_counter() - t0)
+    return first, statistics.median(times)
+
+
+FRAME = re.compile(r"^frame (\d+): ([0-9.]+) s")
+SETUP = re.compile(r"setup \([^)]*\) ([0-9.]+) s")
+
+
+def tetkit_time(exe, mesh, out_png, frames, size, unit_distance, extra):
+    cmd = [exe, "render", mesh, "-o", out_png, "--size", f"{size}x{size}",
+           "--azimuth", "30", "--elevation", "20", "--colormap", "cool-to-warm",
+           "--opacity", "ramp", "--unit-distance", repr(unit_distance),
+           "--orbit", str(frames + 1), "--orbit-step", "2"] + extra
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"tetkit failed: {' '.join(cmd)}\n{p.stderr}")
+    times = [float(m.group(2)) for m in map(FRAME.match, p.stderr.splitlines()) if m]
+    setup = [float(m.group(1)) for m in map(SETUP.search, p.stderr.splitlines()) if m]
+    # Frame 0 is the first view; the turned frames after it are what an orbit costs.
+    return (setup[0] if setup else float("nan")), statistics.median(times[1:] or times)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--tets", type=int, nargs="+", default=[200000, 1000000])
+    ap.add_argument("--frames", type=int, default=3)
+    ap.add_argument("--size", type=int, default=512)
+    ap.add_argument("--tetkit", default=os.path.join(os.path.dirname(__file__), "..", "target", "release", "tetkit"))
+    ap.add_argument("--no-vtk-raycast", action="store_true", help="skip VTK's (slow) ray caster")
+    ap.add_argument("--json", help="also write the results here")
+    args = ap.parse_args()
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="tetkit-bench-") as tmp:
+        for target in args.tets:
+            path = os.path.join(tmp, f"grid_{target}.vtk")
+            ug = make_mesh(target, path)
+            ntets = ug.GetNumberOfCells()
+            # A fifth of the bounding-box diagonal, tetkit's default.
+            ud = (3 ** 0.5) / 5.0
+            row = {"tets": ntets, "vtk_version": vtk.vtkVersion.GetVTKVersion()}
+            row["vtk_pt_first"], row["vtk_pt"] = vtk_time(ug, "pt", args.frames, args.size, ud)
+            if not args.no_vtk_raycast:
+                row["vtk_raycast_first"], row["vtk_raycast"] = vtk_time(ug, "raycast", max(1, args.frames - 1), args.size, ud)
+            png = os.path.join(tmp, "out.png")
+            row["tetkit_kd_pre_setup"], row["tetkit_kd_pre"] = tetkit_time(
+                args.tetkit, path, png, args.frames, args.size, ud, ["--sort", "kd", "--integration", "preintegrated"])
+            row["tetkit_centroid_avg_setup"], row["tetkit_centroid_avg"] = tetkit_time(
+                args.tetkit, path, png, args.frames, args.size, ud, ["--sort", "centroid", "--integration", "average"])
+            row["tetkit_raycast_setup"], row["tetkit_raycast"] = tetkit_time(
+                args.tetkit, path, png, max(1, args.frames - 1), args.size, ud, ["--method", "raycast"])
+            rows.append(row)
+            print(json.dumps(row), flush=True)
+    print()
+    print(f"| tets | VTK PT | VTK ray cast | tetkit kd+preintegrated | tetkit centroid+average | tetkit ray cast | exact PT speed-up vs VTK PT |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    for r in rows:
+        vr = f"{r['vtk_raycast']:.3f} s" if "vtk_raycast" in r else "-"
+        print(f"| {r['tets']} | {r['vtk_pt']:.3f} s | {vr} | {r['tetkit_kd_pre']:.3f} s (setup {r['tetkit_kd_pre_setup']:.2f} s) | "
+              f"{r['tetkit_centroid_avg']:.3f} s | {r['tetkit_raycast']:.3f} s (setup {r['tetkit_raycast_setup']:.2f} s) | "
+              f"{r['vtk_pt'] / r['tetkit_kd_pre']:.1f}x |")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
