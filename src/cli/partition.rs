@@ -1,10 +1,234 @@
 //! `tetkit partition`: K-D tree split of a tet mesh, tree and pieces written for ParaView.
 
-use clap::Args;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use formats::{cell_type, ArrayData, Grid, WriteOptions};
+
+use crate::mesh::TetMesh;
+use crate::partition::{
+    output, partition, PartitionOptions, PartitionReport, SearchParams, Stop, Strategy,
+    ORIGINAL_CELL_ID,
+};
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum StrategyArg {
+    /// Li et al. 2012 as published: N candidates, beta <= PHI, alpha < EPS, best beta of x/y/z.
+    Paper,
+    /// Smallest larger child over wider-gap and vertex-layer candidates (fewer cut tets).
+    Cost,
+}
 
 #[derive(Args, Debug)]
-pub struct PartitionArgs {}
+pub struct PartitionArgs {
+    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele); non-tet 3-D cells are tetrahedralized, 2-D and
+    /// lower cells dropped.
+    pub input: PathBuf,
+    /// The split mesh (.vtu): cell data leaf_id and original_cell_id, the tree in field data.
+    #[arg(short = 'o', long = "output")]
+    pub output: PathBuf,
+    /// The tree as one hexahedron per node (.vtu).
+    #[arg(long)]
+    pub tree: PathBuf,
+    /// Split the largest nodes until there are N leaves [default: 8].
+    #[arg(long, conflicts_with = "depth")]
+    pub leaves: Option<usize>,
+    /// Split every node down to depth D instead.
+    #[arg(long)]
+    pub depth: Option<u32>,
+    /// Plane search.
+    #[arg(long, value_enum, default_value = "paper")]
+    pub strategy: StrategyArg,
+    /// N: evenly spaced candidate planes per axis and node.
+    #[arg(long, default_value_t = 16)]
+    pub candidates: usize,
+    /// PHI: give up a plane whose beta (tets made by cutting / tets in the node) exceeds this.
+    #[arg(long, default_value_t = 1.0)]
+    pub phi: f64,
+    /// EPS: the paper's balance threshold on alpha = |l - r| / ((l + r) / 2).
+    #[arg(long, default_value_t = 0.2)]
+    pub eps: f64,
+    /// Also write one .vtu per leaf into DIR, with DIR/<stem>.vtm naming them.
+    #[arg(long, value_name = "DIR")]
+    pub pieces: Option<PathBuf>,
+    /// Print the report as JSON on stdout instead of a table on stderr.
+    #[arg(long)]
+    pub json: bool,
+}
 
-pub fn run(_args: &PartitionArgs) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+/// Keeps the tets of `grid`: drops 0-, 1- and 2-D cells (saying how many), tetrahedralizes other
+/// 3-D cells. Returns the mesh and, for each of its tets, the input cell it came from.
+pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>)> {
+    let n = grid.num_cells();
+    let all_tets_3d = (0..n).all(|i| {
+        let t = grid.cells.types[i];
+        t == cell_type::TETRA || cell_type::dimension(t) < 3
+    });
+    if !all_tets_3d {
+        let (tets, report) = crate::mesh::tetrahedralize::tetrahedralize(grid, false)
+            .with_context(|| format!("{name}: tetrahedralizing"))?;
+        for (t, k) in &report.split {
+            eprintln!(
+                "tetkit: {name}: split {k} {} cells into tets",
+                cell_type::name(*t)
+            );
+        }
+        if report.dropped > 0 {
+            eprintln!(
+                "tetkit: {name}: dropped {} cells of dimension 0-2",
+                report.dropped
+            );
+        }
+        let ids = match tets.cell_data.get(ORIGINAL_CELL_ID) {
+            Some(a) => a.data.to_f64_vec().into_iter().map(|v| v as i64).collect(),
+            None => (0..tets.num_cells() as i64).collect(),
+        };
+        let mesh = TetMesh::from_grid(&tets).with_context(|| name.to_string())?;
+        return Ok((mesh, ids));
+    }
+    let keep: Vec<usize> = (0..n)
+        .filter(|&i| grid.cells.types[i] == cell_type::TETRA)
+        .collect();
+    let dropped = n - keep.len();
+    let mesh = if dropped > 0 {
+        eprintln!(
+            "tetkit: {name}: dropped {dropped} cells of dimension 0-2 (kept {} tets)",
+            keep.len()
+        );
+        let mut g = grid.clone();
+        let mut cells = formats::Cells::new();
+        for &i in &keep {
+            cells.push(cell_type::TETRA, grid.cells.cell(i));
+        }
+        g.cells = cells;
+        g.cell_data = grid.cell_data.gather(&keep);
+        TetMesh::from_grid(&g)
+    } else {
+        TetMesh::from_grid(grid)
+    }
+    .with_context(|| name.to_string())?;
+    // An input that already carries integer original_cell_id (a tetrahedralized or split mesh)
+    // keeps pointing at the first mesh.
+    let carried = grid
+        .cell_data
+        .get(ORIGINAL_CELL_ID)
+        .filter(|a| a.components == 1 && a.data.scalar_type().is_some_and(|t| !t.is_float()));
+    let ids = match carried {
+        Some(a) => keep.iter().map(|&i| a.data.get_f64(i) as i64).collect(),
+        None => keep.into_iter().map(|i| i as i64).collect(),
+    };
+    Ok((mesh, ids))
+}
+
+pub fn run(args: &PartitionArgs) -> Result<()> {
+    if args.candidates == 0 {
+        bail!("--candidates must be at least 1");
+    }
+    if args.phi.is_nan() || args.eps.is_nan() || args.phi < 0.0 || args.eps < 0.0 {
+        bail!("--phi and --eps must be non-negative numbers");
+    }
+    if matches!(args.leaves, Some(0)) {
+        bail!("--leaves must be at least 1");
+    }
+    for out in [&args.output, &args.tree] {
+        if formats::Format::from_path(out)? != formats::Format::Vtu {
+            bail!("{}: partition writes .vtu files", out.display());
+        }
+    }
+    let name = args.input.display().to_string();
+    let grid = super::read_input(&args.input)?;
+    let (mesh, input_ids) = tets_of(&grid, &name)?;
+    if mesh.tets.is_empty() {
+        bail!("{name}: no tetrahedra to partition");
+    }
+    let opts = PartitionOptions {
+        stop: match (args.leaves, args.depth) {
+            (_, Some(d)) => Stop::Depth(d),
+            (Some(l), None) => Stop::Leaves(l),
+            (None, None) => Stop::Leaves(8),
+        },
+        search: SearchParams {
+            strategy: match args.strategy {
+                StrategyArg::Paper => Strategy::Paper,
+                StrategyArg::Cost => Strategy::Cost,
+            },
+            candidates: args.candidates,
+            phi: args.phi,
+            eps: args.eps,
+        },
+    };
+    let mut result = partition(&mesh, &opts).with_context(|| format!("partitioning {name}"))?;
+    if result.report.reoriented > 0 {
+        eprintln!(
+            "tetkit: {name}: {} tets had negative volume and were reoriented (two vertices swapped)",
+            result.report.reoriented
+        );
+    }
+    if result.report.degenerate > 0 {
+        eprintln!(
+            "tetkit: {name}: warning: {} tets have zero volume (kept as they are)",
+            result.report.degenerate
+        );
+    }
+    if let Some(a) = result.mesh.cell_data.get_mut(ORIGINAL_CELL_ID) {
+        a.data = ArrayData::Int64(
+            result
+                .original
+                .iter()
+                .map(|&o| input_ids.get(o as usize).copied().unwrap_or(o as i64))
+                .collect(),
+        );
+    }
+    let wopts = WriteOptions::default();
+    let tree_grid = output::tree_grid(&result.tree);
+    formats::write(&args.tree, &tree_grid, &wopts)?;
+    formats::write(&args.output, &result.mesh.to_grid(), &wopts)?;
+    if let Some(dir) = &args.pieces {
+        let stem = args
+            .output
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "split".into());
+        let pieces = output::leaf_pieces(&result.mesh, &result.tree);
+        let vtm = output::write_pieces(dir, &stem, &pieces, &wopts)?;
+        if !args.json {
+            eprintln!(
+                "tetkit: wrote {} leaf pieces named by {}",
+                pieces.len(),
+                vtm.display()
+            );
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&result.report)?);
+    } else {
+        eprint!("{}", table(&result.report));
+    }
+    Ok(())
+}
+
+/// The report as a small table.
+pub fn table(r: &PartitionReport) -> String {
+    let mut s = String::new();
+    let strategy = match r.strategy {
+        Strategy::Paper => "paper",
+        Strategy::Cost => "cost",
+    };
+    s += &format!(
+        "partition ({strategy}): {} leaves, depth {}, tets {} -> {} (growth {:.3}x), points {} -> {}\n",
+        r.leaves, r.depth, r.tets_before, r.tets_after, r.growth, r.points_before, r.points_after
+    );
+    s += &format!(
+        "balance {:.3} (largest leaf {}, smallest {}), neighbour tets split for conformity {}, {:.3} s\n",
+        r.balance, r.largest_leaf, r.smallest_leaf, r.neighbour_splits, r.seconds
+    );
+    s += "depth  split  no plane  tets after  seconds\n";
+    for l in &r.levels {
+        s += &format!(
+            "{:>5}  {:>5}  {:>8}  {:>10}  {:>7.3}\n",
+            l.depth, l.split, l.no_plane, l.tets_after, l.seconds
+        );
+    }
+    s
 }

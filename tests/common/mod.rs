@@ -163,7 +163,7 @@ pub fn dir_listing(dir: &Path) -> Vec<String> {
 
 /// Every mesh under fixtures/ that a reader must accept: `.vtu`, `.pvtu`, `.vtk`, and TetGen
 /// `.ele` files, recursively, sorted. Folders named `hostile` or `bad` (inputs that must be
-/// refused) are left out.
+/// refused) and `surfaces` (polydata bodies for scenes, not meshes) are left out.
 pub fn fixture_meshes() -> Vec<PathBuf> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
         let Ok(rd) = std::fs::read_dir(dir) else {
@@ -173,7 +173,7 @@ pub fn fixture_meshes() -> Vec<PathBuf> {
             let p = e.path();
             if p.is_dir() {
                 let name = e.file_name().to_string_lossy().to_ascii_lowercase();
-                if name != "hostile" && name != "bad" {
+                if name != "hostile" && name != "bad" && name != "surfaces" {
                     walk(&p, out);
                 }
             } else if let Some(ext) = p.extension().and_then(|x| x.to_str()) {

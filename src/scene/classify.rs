@@ -1,0 +1,464 @@
+//! Tet classification: each tet's region code has bit `i` set when the tet's interior and body
+//! `i`'s interior overlap. Touching (sharing only boundary points: a face, an edge, a vertex, or
+//! a tangent point) does not count, so a body whose surface passes exactly through mesh faces and
+//! vertices marks only the tets on its inside.
+//!
+//! Boxes and triangle surfaces are decided exactly (separating planes with exact signs); spheres,
+//! cylinders and cones in floating point (closest distances), where only rounding can mistake a
+//! tangency for an overlap.
+
+use rayon::prelude::*;
+
+use super::exact::{det3_sign, orient, ZERO};
+use super::{Primitive, Scene, Shape, TriSurface};
+use crate::geom::{dot, sub, Aabb};
+use crate::mesh::TetMesh;
+
+const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+const TET_EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+
+/// Region codes of every tet of `mesh` (parallel).
+pub fn classify(scene: &Scene, mesh: &TetMesh) -> Vec<u8> {
+    let bounds: Vec<Aabb> = scene.bodies.iter().map(|b| b.bounds()).collect();
+    (0..mesh.tets.len())
+        .into_par_iter()
+        .map(|t| tet_code(scene, &bounds, &mesh.tet_points(t)))
+        .collect()
+}
+
+/// The region code of one tet; `bounds` are the bodies' boxes.
+pub fn tet_code(scene: &Scene, bounds: &[Aabb], p: &[[f64; 3]; 4]) -> u8 {
+    let tb = Aabb::of_points(p.iter());
+    let mut code = 0u8;
+    for (i, b) in scene.bodies.iter().enumerate() {
+        // Open boxes must overlap for the interiors to.
+        let bb = &bounds[i];
+        if (0..3).any(|k| tb.max[k] <= bb.min[k] || tb.min[k] >= bb.max[k]) {
+            continue;
+        }
+        let hit = match &b.shape {
+            Shape::Primitive(Primitive::Box { min, max }) => tet_box(p, min, max),
+            Shape::Primitive(Primitive::Sphere { center, radius }) => {
+                tet_sphere(p, center, *radius)
+            }
+            Shape::Primitive(Primitive::Frustum { start, end, r0, r1 }) => {
+                tet_frustum(p, start, end, *r0, *r1)
+            }
+            Shape::Surface(s) => tet_surface(p, &tb, s),
+        };
+        if hit {
+            code |= 1 << i;
+        }
+    }
+    code
+}
+
+/// Whether a plane (given as a sign function) weakly separates the point sets: all of `a` on one
+/// closed side and all of `b` on the other.
+fn separates(a: &[[f64; 3]], b: &[[f64; 3]], side: impl Fn(&[f64; 3]) -> i32) -> bool {
+    let sa: Vec<i32> = a.iter().map(&side).collect();
+    let sb: Vec<i32> = b.iter().map(&side).collect();
+    (sa.iter().all(|&s| s >= 0) && sb.iter().all(|&s| s <= 0))
+        || (sa.iter().all(|&s| s <= 0) && sb.iter().all(|&s| s >= 0))
+}
+
+/// Separating-axis test between a tet (open) and a convex polytope given by vertices, face
+/// triples and edge directions: true when no candidate plane weakly separates them, i.e. when the
+/// tet's interior meets the polytope (its interior, if it is solid; itself, if it is flat).
+fn tet_meets_polytope(
+    p: &[[f64; 3]; 4],
+    verts: &[[f64; 3]],
+    faces: &[[usize; 3]],
+    edges: &[[usize; 2]],
+) -> bool {
+    if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
+        return false; // a flat tet has no interior
+    }
+    for f in TET_FACES {
+        let (a, b, c) = (p[f[0]], p[f[1]], p[f[2]]);
+        if separates(p, verts, |x| orient(&a, &b, &c, x)) {
+            return false;
+        }
+    }
+    for f in faces {
+        let (a, b, c) = (verts[f[0]], verts[f[1]], verts[f[2]]);
+        if separates(p, verts, |x| orient(&a, &b, &c, x)) {
+            return false;
+        }
+    }
+    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for e in TET_EDGES {
+        let (q0, q1) = (p[e[0]], p[e[1]]);
+        for f in edges {
+            let (u0, u1) = (verts[f[0]], verts[f[1]]);
+            // Parallel edges span no plane.
+            if axes
+                .iter()
+                .all(|ax| det3_sign((q1, q0), (u1, u0), (*ax, ZERO)) == 0)
+            {
+                continue;
+            }
+            if separates(p, verts, |x| det3_sign((q1, q0), (u1, u0), (*x, q0))) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+fn tet_box(p: &[[f64; 3]; 4], min: &[f64; 3], max: &[f64; 3]) -> bool {
+    // Quick accept: a tet vertex strictly inside the open box.
+    if p.iter()
+        .any(|v| (0..3).all(|k| min[k] < v[k] && v[k] < max[k]))
+        && orient(&p[0], &p[1], &p[2], &p[3]) != 0
+    {
+        return true;
+    }
+    let c = |i: usize| {
+        [
+            if i & 1 == 0 { min[0] } else { max[0] },
+            if i & 2 == 0 { min[1] } else { max[1] },
+            if i & 4 == 0 { min[2] } else { max[2] },
+        ]
+    };
+    let verts: Vec<[f64; 3]> = (0..8).map(c).collect();
+    // One face per axis side (any three corners of it), one edge per axis.
+    let faces = [
+        [0, 2, 4],
+        [1, 3, 5],
+        [0, 1, 4],
+        [2, 3, 6],
+        [0, 1, 2],
+        [4, 5, 6],
+    ];
+    let edges = [[0, 1], [0, 2], [0, 4]];
+    tet_meets_polytope(p, &verts, &faces, &edges)
+}
+
+/// Closest point of triangle `abc` to `x` (Ericson, Real-Time Collision Detection 5.1.5).
+fn closest_on_triangle(x: &[f64; 3], a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> [f64; 3] {
+    let ab = sub(b, a);
+    let ac = sub(c, a);
+    let ap = sub(x, a);
+    let d1 = dot(&ab, &ap);
+    let d2 = dot(&ac, &ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return *a;
+    }
+    let bp = sub(x, b);
+    let d3 = dot(&ab, &bp);
+    let d4 = dot(&ac, &bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return *b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return [0, 1, 2].map(|k| a[k] + v * ab[k]);
+    }
+    let cp = sub(x, c);
+    let d5 = dot(&ab, &cp);
+    let d6 = dot(&ac, &cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return *c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return [0, 1, 2].map(|k| a[k] + w * ac[k]);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return [0, 1, 2].map(|k| b[k] + w * (c[k] - b[k]));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let v = vb * denom;
+    let w = vc * denom;
+    [0, 1, 2].map(|k| a[k] + ab[k] * v + ac[k] * w)
+}
+
+fn inside_tet(p: &[[f64; 3]; 4], x: &[f64; 3]) -> bool {
+    let s = orient(&p[0], &p[1], &p[2], &p[3]);
+    (0..4).all(|i| {
+        let mut q = *p;
+        q[i] = *x;
+        let o = orient(&q[0], &q[1], &q[2], &q[3]);
+        o == s || o == 0
+    })
+}
+
+fn tet_sphere(p: &[[f64; 3]; 4], c: &[f64; 3], r: f64) -> bool {
+    if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
+        return false;
+    }
+    if inside_tet(p, c) {
+        return true;
+    }
+    TET_FACES.iter().any(|f| {
+        let q = closest_on_triangle(c, &p[f[0]], &p[f[1]], &p[f[2]]);
+        let v = sub(&q, c);
+        dot(&v, &v) < r * r
+    })
+}
+
+/// Distance from the origin to the convex hull of 2D points, compared with `r`: true when the
+/// hull reaches inside the open disc of radius `r`.
+fn hull_within(pts: &mut [[f64; 2]], r: f64) -> bool {
+    if pts.is_empty() {
+        return false;
+    }
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    let cross = |o: &[f64; 2], a: &[f64; 2], b: &[f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let mut hull: Vec<[f64; 2]> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for q in iter {
+            while hull.len() >= start + 2
+                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], q) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(*q);
+        }
+        hull.pop();
+    }
+    if hull.is_empty() {
+        hull.push(pts[0]);
+    }
+    let o = [0.0, 0.0];
+    if hull.len() >= 3
+        && (0..hull.len()).all(|i| cross(&hull[i], &hull[(i + 1) % hull.len()], &o) >= 0.0)
+    {
+        return true;
+    }
+    let seg = |a: &[f64; 2], b: &[f64; 2]| {
+        let ab = [b[0] - a[0], b[1] - a[1]];
+        let l2 = ab[0] * ab[0] + ab[1] * ab[1];
+        let t = if l2 > 0.0 {
+            (-(a[0] * ab[0] + a[1] * ab[1]) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let q = [a[0] + t * ab[0], a[1] + t * ab[1]];
+        q[0] * q[0] + q[1] * q[1]
+    };
+    let n = hull.len();
+    (0..n).any(|i| seg(&hull[i], &hull[(i + 1) % n]) < r * r)
+}
+
+fn tet_frustum(p: &[[f64; 3]; 4], start: &[f64; 3], end: &[f64; 3], r0: f64, r1: f64) -> bool {
+    if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
+        return false;
+    }
+    let axis = sub(end, start);
+    let len2 = dot(&axis, &axis);
+    let s: Vec<f64> = p
+        .iter()
+        .map(|x| dot(&sub(x, start), &axis) / len2)
+        .collect();
+    // The open slab 0 < s < 1; a cone's apex end is pulled in a hair so the central projection
+    // stays finite (what is lost is a needle of zero radius).
+    let (lo, hi) = (
+        if r0 == 0.0 { 1e-9 } else { 0.0 },
+        if r1 == 0.0 { 1.0 - 1e-9 } else { 1.0 },
+    );
+    if s.iter().all(|&v| v <= lo) || s.iter().all(|&v| v >= hi) {
+        return false;
+    }
+    let mut clipped: Vec<([f64; 3], f64)> = Vec::with_capacity(16);
+    for i in 0..4 {
+        if s[i] >= lo && s[i] <= hi {
+            clipped.push((p[i], s[i]));
+        }
+    }
+    for e in TET_EDGES {
+        let (a, b) = (e[0], e[1]);
+        for level in [lo, hi] {
+            if (s[a] - level) * (s[b] - level) < 0.0 {
+                let t = (level - s[a]) / (s[b] - s[a]);
+                clipped.push(([0, 1, 2].map(|k| p[a][k] + t * (p[b][k] - p[a][k])), level));
+            }
+        }
+    }
+    // A basis of the plane perpendicular to the axis.
+    let n = axis.map(|x| x / len2.sqrt());
+    let helper = if n[0].abs() < 0.6 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let e1 = {
+        let c = crate::geom::cross(&n, &helper);
+        let l = dot(&c, &c).sqrt();
+        c.map(|x| x / l)
+    };
+    let e2 = crate::geom::cross(&n, &e1);
+    let cone = r0 != r1;
+    let (sa, k) = if cone {
+        (r0 / (r0 - r1), (r0 - r1).abs())
+    } else {
+        (0.0, r0)
+    };
+    let sign = if r0 > r1 { 1.0 } else { -1.0 };
+    let mut pts: Vec<[f64; 2]> = clipped
+        .iter()
+        .map(|(x, sv)| {
+            let rel = sub(x, start);
+            let y = [dot(&rel, &e1), dot(&rel, &e2)];
+            if cone {
+                // Central projection from the apex: w is the axial distance from it (in units of
+                // the axis length), positive throughout the slab.
+                let w = (sa - sv) * sign;
+                [y[0] / w, y[1] / w]
+            } else {
+                y
+            }
+        })
+        .collect();
+    // In axis-length units the cone's radius at distance w from the apex is k w.
+    hull_within(&mut pts, k)
+}
+
+fn tet_surface(p: &[[f64; 3]; 4], tb: &Aabb, s: &TriSurface) -> bool {
+    if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
+        return false;
+    }
+    let tri_faces = [[0usize, 1, 2]];
+    let tri_edges = [[0usize, 1], [1, 2], [2, 0]];
+    for t in &s.tris {
+        let v = t.map(|i| s.points[i as usize]);
+        if (0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
+        {
+            continue;
+        }
+        if tet_meets_polytope(p, &v, &tri_faces, &tri_edges) {
+            return true;
+        }
+    }
+    // The surface misses the open tet, so the tet is wholly inside or wholly outside: test one
+    // interior point.
+    let mut w = [0.25; 4];
+    for attempt in 0..4 {
+        let x = [0, 1, 2].map(|k| (0..4).map(|i| w[i] * p[i][k]).sum::<f64>());
+        if strictly_inside(p, &x) {
+            return s.contains(&x);
+        }
+        w = [0.1; 4];
+        w[attempt] = 0.7;
+    }
+    false
+}
+
+fn strictly_inside(p: &[[f64; 3]; 4], x: &[f64; 3]) -> bool {
+    let s = orient(&p[0], &p[1], &p[2], &p[3]);
+    (0..4).all(|i| {
+        let mut q = *p;
+        q[i] = *x;
+        orient(&q[0], &q[1], &q[2], &q[3]) == s
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::surface::{tests::cube_raw, TriSurface};
+    use std::path::Path;
+
+    const UNIT: [[f64; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+
+    #[test]
+    fn box_touching_is_not_overlapping() {
+        // Box sharing the tet's face z = 0 from below: touching only.
+        assert!(!tet_box(&UNIT, &[-1.0, -1.0, -1.0], &[2.0, 2.0, 0.0]));
+        // Box above the slanted face x + y + z = 1, touching it at a vertex (1,0,0)... and along
+        // nothing else.
+        assert!(!tet_box(&UNIT, &[1.0, 0.0, 0.0], &[2.0, 1.0, 1.0]));
+        // A box corner poking into the slanted face.
+        assert!(tet_box(&UNIT, &[0.3, 0.3, 0.3], &[2.0, 2.0, 2.0]));
+        // Just beyond the slanted face: (1/3,1/3,1/3) is on it.
+        assert!(!tet_box(
+            &UNIT,
+            &[1.0 / 3.0 + 1e-12, 1.0 / 3.0 + 1e-12, 1.0 / 3.0 + 1e-12],
+            &[2.0; 3]
+        ));
+        // Box holding the tet, and a thin box through the middle with no tet vertex inside.
+        assert!(tet_box(&UNIT, &[-1.0; 3], &[2.0; 3]));
+        assert!(tet_box(&UNIT, &[0.1, -1.0, -1.0], &[0.2, 2.0, 2.0]));
+    }
+
+    #[test]
+    fn sphere_and_frustum() {
+        assert!(tet_sphere(&UNIT, &[0.2, 0.2, 0.2], 0.01));
+        assert!(!tet_sphere(&UNIT, &[-1.0, 0.2, 0.2], 1.0)); // tangent to the face x = 0
+        assert!(tet_sphere(&UNIT, &[-1.0, 0.2, 0.2], 1.0 + 1e-9));
+        let cyl = |r: f64| tet_frustum(&UNIT, &[-0.5, 0.2, -1.0], &[-0.5, 0.2, 3.0], r, r);
+        assert!(!cyl(0.5)); // tangent to x = 0
+        assert!(cyl(0.51));
+        // Cylinder along z through the tet's interior.
+        assert!(tet_frustum(
+            &UNIT,
+            &[0.1, 0.1, -5.0],
+            &[0.1, 0.1, 5.0],
+            0.01,
+            0.01
+        ));
+        // Cylinder ending just below the tet (the slab excludes it).
+        assert!(!tet_frustum(
+            &UNIT,
+            &[0.1, 0.1, -5.0],
+            &[0.1, 0.1, 0.0],
+            0.01,
+            0.01
+        ));
+        // A cone whose apex pokes into the tet, and one whose wide end stays outside.
+        assert!(tet_frustum(
+            &UNIT,
+            &[0.1, 0.1, -2.0],
+            &[0.1, 0.1, 0.5],
+            1.0,
+            0.0
+        ));
+        assert!(!tet_frustum(
+            &UNIT,
+            &[3.0, 3.0, 0.0],
+            &[3.0, 3.0, 1.0],
+            1.0,
+            0.1
+        ));
+    }
+
+    #[test]
+    fn surface_cube_exact() {
+        let s = TriSurface::from_raw(Path::new("cube"), cube_raw()).unwrap();
+        // The tet's face z = 0 lies on the cube's face... shift: tet below the cube touching it.
+        let below = UNIT.map(|v| [v[0], v[1], v[2] - 1.0]);
+        assert!(!tet_surface(&below, &Aabb::of_points(below.iter()), &s));
+        assert!(tet_surface(&UNIT, &Aabb::of_points(UNIT.iter()), &s));
+        let small = UNIT.map(|v| [0.2 + 0.1 * v[0], 0.2 + 0.1 * v[1], 0.2 + 0.1 * v[2]]);
+        assert!(tet_surface(&small, &Aabb::of_points(small.iter()), &s));
+        let far = UNIT.map(|v| [v[0] + 5.0, v[1], v[2]]);
+        assert!(!tet_surface(&far, &Aabb::of_points(far.iter()), &s));
+        // Touching along an edge only.
+        let edge = [
+            [1.0, 1.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [1.0, 2.0, 0.0],
+            [1.0, 1.0, 1.0],
+        ];
+        assert!(!tet_surface(&edge, &Aabb::of_points(edge.iter()), &s));
+        assert!(!tet_box(&edge, &[0.0; 3], &[1.0; 3]));
+    }
+}

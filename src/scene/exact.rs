@@ -1,0 +1,168 @@
+//! Exact signs of 3x3 determinants of point differences: a floating-point filter, then exact
+//! dyadic (big integer times a power of two) arithmetic when the filter cannot decide.
+
+use num_bigint::BigInt;
+use num_traits::{Signed, Zero};
+
+/// A dyadic rational `m * 2^e`: every finite f64 is one, and sums and products stay exact.
+#[derive(Clone, Debug)]
+struct Dyadic {
+    m: BigInt,
+    e: i32,
+}
+
+impl Dyadic {
+    fn from_f64(x: f64) -> Dyadic {
+        if x == 0.0 {
+            return Dyadic {
+                m: BigInt::zero(),
+                e: 0,
+            };
+        }
+        let bits = x.to_bits();
+        let sign = if bits >> 63 == 1 { -1i64 } else { 1 };
+        let exp = ((bits >> 52) & 0x7ff) as i32;
+        let frac = (bits & ((1u64 << 52) - 1)) as i64;
+        let (mant, e) = if exp == 0 {
+            (frac, -1074)
+        } else {
+            (frac | (1i64 << 52), exp - 1075)
+        };
+        Dyadic {
+            m: BigInt::from(sign * mant),
+            e,
+        }
+    }
+
+    fn align(a: &Dyadic, b: &Dyadic) -> (BigInt, BigInt, i32) {
+        let e = a.e.min(b.e);
+        (&a.m << (a.e - e) as usize, &b.m << (b.e - e) as usize, e)
+    }
+
+    fn sub(&self, o: &Dyadic) -> Dyadic {
+        let (a, b, e) = Dyadic::align(self, o);
+        Dyadic { m: a - b, e }
+    }
+
+    fn add(&self, o: &Dyadic) -> Dyadic {
+        let (a, b, e) = Dyadic::align(self, o);
+        Dyadic { m: a + b, e }
+    }
+
+    fn mul(&self, o: &Dyadic) -> Dyadic {
+        Dyadic {
+            m: &self.m * &o.m,
+            e: self.e + o.e,
+        }
+    }
+
+    fn sign(&self) -> i32 {
+        if self.m.is_zero() {
+            0
+        } else if self.m.is_positive() {
+            1
+        } else {
+            -1
+        }
+    }
+}
+
+/// A vector given as the difference `p - q` of two exactly represented points.
+pub type Diff = ([f64; 3], [f64; 3]);
+
+/// Exact sign (-1, 0, 1) of `det[u, v, w]` where each row is a difference of two f64 points.
+pub fn det3_sign(u: Diff, v: Diff, w: Diff) -> i32 {
+    let d = |x: &Diff| [0, 1, 2].map(|k| x.0[k] - x.1[k]);
+    let (a, b, c) = (d(&u), d(&v), d(&w));
+    let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    let aa = a.map(f64::abs);
+    let ab = b.map(f64::abs);
+    let ac = c.map(f64::abs);
+    let perm = aa[0] * (ab[1] * ac[2] + ab[2] * ac[1])
+        + aa[1] * (ab[0] * ac[2] + ab[2] * ac[0])
+        + aa[2] * (ab[0] * ac[1] + ab[1] * ac[0]);
+    // Each difference is off by at most one rounding, each product by two more and the sums by
+    // three: 16 units of roundoff bound the total with room to spare. Tiny or huge magnitudes
+    // (underflow, overflow) skip the filter.
+    let bound = 16.0 * f64::EPSILON * perm;
+    if perm.is_finite() && perm > 1e-280 && det.is_finite() && det.abs() > bound {
+        return if det > 0.0 { 1 } else { -1 };
+    }
+    det3_exact(u, v, w)
+}
+
+fn det3_exact(u: Diff, v: Diff, w: Diff) -> i32 {
+    let d = |x: &Diff| [0, 1, 2].map(|k| Dyadic::from_f64(x.0[k]).sub(&Dyadic::from_f64(x.1[k])));
+    let (a, b, c) = (d(&u), d(&v), d(&w));
+    let m = |i: usize, j: usize| b[i].mul(&c[j]).sub(&b[j].mul(&c[i]));
+    let det = a[0]
+        .mul(&m(1, 2))
+        .sub(&a[1].mul(&m(0, 2)))
+        .add(&a[2].mul(&m(0, 1)));
+    det.sign()
+}
+
+pub const ZERO: [f64; 3] = [0.0; 3];
+
+/// Exact orientation of `x` against the plane through `a`, `b`, `c`: the sign of
+/// `det[b - a, c - a, x - a]` (positive when `x` is on the side `(b - a) x (c - a)` points to).
+pub fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], x: &[f64; 3]) -> i32 {
+    det3_sign((*b, *a), (*c, *a), (*x, *a))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_where_floats_fail() {
+        // Nearly coplanar points with large offsets: the naive determinant rounds to garbage.
+        let o = 1e15;
+        let a = [o, o, o];
+        let b = [o + 1.0, o, o];
+        let c = [o, o + 1.0, o];
+        let x = [o + 0.5, o + 0.5, o];
+        assert_eq!(orient(&a, &b, &c, &x), 0);
+        let y = [o + 0.5, o + 0.5, o + 0.125];
+        assert_eq!(orient(&a, &b, &c, &y), 1);
+        let z = [o + 0.5, o + 0.5, o - 0.125];
+        assert_eq!(orient(&a, &b, &c, &z), -1);
+        // Tiny coordinates (subnormal products) go to the exact path.
+        let s = 1e-300;
+        assert_eq!(
+            orient(&[0.0; 3], &[s, 0.0, 0.0], &[0.0, s, 0.0], &[0.0, 0.0, s]),
+            1
+        );
+    }
+
+    #[test]
+    fn agrees_with_robust_orient3d() {
+        let pts = [
+            [0.1, 0.2, 0.3],
+            [1.7, -0.2, 0.9],
+            [0.3, 2.2, -1.3],
+            [0.5, 0.5, 0.5],
+            [1.0 / 3.0, 2.0 / 3.0, 0.0],
+        ];
+        for a in &pts {
+            for b in &pts {
+                for c in &pts {
+                    for x in &pts {
+                        let r = crate::geom::orient3d(a, b, c, x);
+                        // robust: positive when x is below the plane of counter-clockwise a, b, c.
+                        let expect = if r > 0.0 {
+                            -1
+                        } else if r < 0.0 {
+                            1
+                        } else {
+                            0
+                        };
+                        assert_eq!(orient(a, b, c, x), expect);
+                        assert_eq!(det3_exact((*b, *a), (*c, *a), (*x, *a)), expect);
+                    }
+                }
+            }
+        }
+    }
+}
