@@ -4,9 +4,9 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use formats::{cell_type, ArrayData, Grid, WriteOptions};
+use formats::{ArrayData, WriteOptions};
 
-use crate::mesh::TetMesh;
+use crate::partition::input::tets_of;
 use crate::partition::{
     output, partition, PartitionOptions, PartitionReport, SearchParams, Stop, Strategy,
     ORIGINAL_CELL_ID,
@@ -57,70 +57,6 @@ pub struct PartitionArgs {
     pub json: bool,
 }
 
-/// Keeps the tets of `grid`: drops 0-, 1- and 2-D cells (saying how many), tetrahedralizes other
-/// 3-D cells. Returns the mesh and, for each of its tets, the input cell it came from.
-pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>)> {
-    let n = grid.num_cells();
-    let all_tets_3d = (0..n).all(|i| {
-        let t = grid.cells.types[i];
-        t == cell_type::TETRA || cell_type::dimension(t) < 3
-    });
-    if !all_tets_3d {
-        let (tets, report) = crate::mesh::tetrahedralize::tetrahedralize(grid, false)
-            .with_context(|| format!("{name}: tetrahedralizing"))?;
-        for (t, k) in &report.split {
-            eprintln!(
-                "tetkit: {name}: split {k} {} cells into tets",
-                cell_type::name(*t)
-            );
-        }
-        if report.dropped > 0 {
-            eprintln!(
-                "tetkit: {name}: dropped {} cells of dimension 0-2",
-                report.dropped
-            );
-        }
-        let ids = match tets.cell_data.get(ORIGINAL_CELL_ID) {
-            Some(a) => a.data.to_f64_vec().into_iter().map(|v| v as i64).collect(),
-            None => (0..tets.num_cells() as i64).collect(),
-        };
-        let mesh = TetMesh::from_grid(&tets).with_context(|| name.to_string())?;
-        return Ok((mesh, ids));
-    }
-    let keep: Vec<usize> = (0..n)
-        .filter(|&i| grid.cells.types[i] == cell_type::TETRA)
-        .collect();
-    let dropped = n - keep.len();
-    let mesh = if dropped > 0 {
-        eprintln!(
-            "tetkit: {name}: dropped {dropped} cells of dimension 0-2 (kept {} tets)",
-            keep.len()
-        );
-        let mut g = grid.clone();
-        let mut cells = formats::Cells::new();
-        for &i in &keep {
-            cells.push(cell_type::TETRA, grid.cells.cell(i));
-        }
-        g.cells = cells;
-        g.cell_data = grid.cell_data.gather(&keep);
-        TetMesh::from_grid(&g)
-    } else {
-        TetMesh::from_grid(grid)
-    }
-    .with_context(|| name.to_string())?;
-    // An input that already carries integer original_cell_id (a tetrahedralized or split mesh)
-    // keeps pointing at the first mesh.
-    let carried = grid
-        .cell_data
-        .get(ORIGINAL_CELL_ID)
-        .filter(|a| a.components == 1 && a.data.scalar_type().is_some_and(|t| !t.is_float()));
-    let ids = match carried {
-        Some(a) => keep.iter().map(|&i| a.data.get_f64(i) as i64).collect(),
-        None => keep.into_iter().map(|i| i as i64).collect(),
-    };
-    Ok((mesh, ids))
-}
-
 pub fn run(args: &PartitionArgs) -> Result<()> {
     if args.candidates == 0 {
         bail!("--candidates must be at least 1");
@@ -138,7 +74,10 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
     }
     let name = args.input.display().to_string();
     let grid = super::read_input(&args.input)?;
-    let (mesh, input_ids) = tets_of(&grid, &name)?;
+    let (mesh, input_ids, notes) = tets_of(&grid, &name)?;
+    for n in notes {
+        eprintln!("tetkit: {n}");
+    }
     if mesh.tets.is_empty() {
         bail!("{name}: no tetrahedra to partition");
     }

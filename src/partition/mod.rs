@@ -2,6 +2,7 @@
 //! exactly one leaf.
 
 pub mod build;
+pub mod input;
 pub mod output;
 pub mod search;
 pub mod split;
