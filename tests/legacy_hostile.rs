@@ -145,7 +145,7 @@ fn broken_structure() {
     let t = format!("{ASCII42}{TET_POINTS}CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 2\n10 10\n");
     refused_at(&t, 9, "2 entries for 1 cells");
     let t = format!("{ASCII42}{TET_POINTS}CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n99\n");
-    refused_at(&t, 9, "unknown type 99");
+    refused_at(&t, 10, "unknown type 99");
     let t = format!("{ASCII42}{TET_POINTS}CELLS 1 5\n4 0 1 2 3\n");
     assert!(err(t.as_bytes()).message.contains("no CELL_TYPES"));
     let t = format!("{ASCII42}{TET_POINTS}CELLS 1 5\n-4 0 1 2 3\nCELL_TYPES 1\n10\n");

@@ -155,9 +155,8 @@ pub fn read(path: &Path) -> Result<Grid> {
             vtu::read_path(path)?
         }
         Format::Legacy => {
-            let bytes = read_file(path)?;
-            check_sniff(path, format, &bytes)?;
-            legacy::read(&bytes).map_err(|e| e.with_file(path))?
+            check_sniff(path, format, &read_head(path)?)?;
+            legacy::read_path(path)?
         }
     };
     grid.validate()

@@ -14,14 +14,14 @@ pub const LOOKUP_TABLE_PREFIX: &str = "lookup_table:";
 /// Reads a data type keyword.
 pub(crate) fn read_type(cur: &mut Cursor<'_>, what: &str) -> Result<LegacyType, FormatError> {
     let (p, t) = cur.expect(&format!("the data type of {what}"))?;
-    LegacyType::parse(t)
-        .ok_or_else(|| cur.err(p, format!("{what}: unknown data type '{}'", show(t))))
+    LegacyType::parse(&t)
+        .ok_or_else(|| cur.err(p, format!("{what}: unknown data type '{}'", show(&t))))
 }
 
 /// Reads a (%-encoded) array name.
 pub(crate) fn read_name(cur: &mut Cursor<'_>, what: &str) -> Result<String, FormatError> {
     let (_, t) = cur.expect(what)?;
-    Ok(names::decode(t))
+    Ok(names::decode(&t))
 }
 
 /// Reads `tuples * components` values of `ty`, then any METADATA block, into a named array.
@@ -55,18 +55,18 @@ pub(crate) fn read_metadata(
     components: usize,
 ) -> Result<Option<Vec<String>>, FormatError> {
     match cur.peek() {
-        Some((_, t)) if is_kw(t, "METADATA") => {}
+        Some((_, t)) if is_kw(&t, "METADATA") => {}
         _ => return Ok(None),
     }
     cur.token();
     cur.line();
     let mut names = Vec::new();
     loop {
-        if cur.pos >= cur.bytes.len() {
+        if cur.remaining() == 0 {
             break;
         }
         let at = cur.pos;
-        let line = cur.line();
+        let line = cur.line().to_vec();
         let word = line
             .split(|b| b.is_ascii_whitespace())
             .find(|w| !w.is_empty());
@@ -74,7 +74,7 @@ pub(crate) fn read_metadata(
         if is_kw(word, "COMPONENT_NAMES") {
             names.clear();
             for k in 0..components {
-                if cur.pos >= cur.bytes.len() {
+                if cur.remaining() == 0 {
                     return Err(cur.err(
                         cur.pos,
                         format!("METADATA: end of file after {k} of {components} component names"),
@@ -84,14 +84,14 @@ pub(crate) fn read_metadata(
             }
         } else if is_kw(word, "INFORMATION") {
             // Keys run to the empty line that also ends the METADATA block.
-            while cur.pos < cur.bytes.len() && !cur.line().iter().all(u8::is_ascii_whitespace) {}
+            while cur.remaining() > 0 && !cur.line().iter().all(u8::is_ascii_whitespace) {}
             break;
         } else {
             return Err(cur.err(
                 at,
                 format!(
                     "METADATA: expected COMPONENT_NAMES, INFORMATION or an empty line, found '{}'",
-                    show(line)
+                    show(&line)
                 ),
             ));
         }
@@ -107,10 +107,10 @@ pub(crate) fn read_field(cur: &mut Cursor<'_>) -> Result<Vec<DataArray>, FormatE
     let mut out = Vec::new();
     for _ in 0..count {
         let (p, t) = cur.expect("a FIELD array name")?;
-        if is_kw(t, "NULL_ARRAY") {
+        if is_kw(&t, "NULL_ARRAY") {
             continue;
         }
-        let name = names::decode(t);
+        let name = names::decode(&t);
         let comps = cur.expect_count(&format!("the component count of FIELD array '{name}'"))?;
         if comps == 0 {
             return Err(cur.err(p, format!("FIELD array '{name}' has 0 components")));
@@ -132,11 +132,11 @@ pub(crate) fn read_section(
     field: &mut Vec<DataArray>,
 ) -> Result<(), FormatError> {
     while let Some((p, t)) = cur.peek() {
-        if is_kw(t, "POINT_DATA") || is_kw(t, "CELL_DATA") {
+        if is_kw(&t, "POINT_DATA") || is_kw(&t, "CELL_DATA") {
             return Ok(());
         }
         cur.token();
-        let kw = String::from_utf8_lossy(t).to_ascii_uppercase();
+        let kw = String::from_utf8_lossy(&t).to_ascii_uppercase();
         let (role, comps) = match kw.as_str() {
             "SCALARS" => {
                 let name = read_name(cur, "the SCALARS name")?;
@@ -144,25 +144,25 @@ pub(crate) fn read_section(
                 let (q, t2) = cur.expect("LOOKUP_TABLE or a component count")?;
                 let mut comps = 1;
                 let mut t2 = t2;
-                if !is_kw(t2, "LOOKUP_TABLE") {
-                    comps = super::cursor::parse_count(t2)
+                if !is_kw(&t2, "LOOKUP_TABLE") {
+                    comps = super::cursor::parse_count(&t2)
                         .filter(|c| (1..=4).contains(c))
                         .ok_or_else(|| {
                             cur.err(
                                 q,
                                 format!(
                                     "SCALARS '{name}': component count must be 1..4, found '{}'",
-                                    show(t2)
+                                    show(&t2)
                                 ),
                             )
                         })?;
                     let (q2, t3) = cur.expect("LOOKUP_TABLE")?;
-                    if !is_kw(t3, "LOOKUP_TABLE") {
+                    if !is_kw(&t3, "LOOKUP_TABLE") {
                         return Err(cur.err(
                             q2,
                             format!(
                                 "SCALARS '{name}': expected LOOKUP_TABLE, found '{}'",
-                                show(t3)
+                                show(&t3)
                             ),
                         ));
                     }
@@ -242,14 +242,14 @@ pub(crate) fn read_section(
             "TEXTURE_COORDINATES" => {
                 let name = read_name(cur, "the TEXTURE_COORDINATES name")?;
                 let (q, t2) = cur.expect("the texture coordinate dimension")?;
-                let dim = super::cursor::parse_count(t2)
+                let dim = super::cursor::parse_count(&t2)
                     .filter(|d| (1..=3).contains(d))
                     .ok_or_else(|| {
                         cur.err(
                             q,
                             format!(
                                 "TEXTURE_COORDINATES '{name}': dimension must be 1..3, found '{}'",
-                                show(t2)
+                                show(&t2)
                             ),
                         )
                     })?;
@@ -269,7 +269,7 @@ pub(crate) fn read_section(
                     p,
                     format!(
                         "unknown keyword '{}' in a POINT_DATA/CELL_DATA section",
-                        show(t)
+                        show(&t)
                     ),
                 ))
             }

@@ -1,13 +1,32 @@
-//! Byte cursor over a legacy file: whitespace tokens without allocation, binary blocks, and error
-//! places (line numbers in ASCII files, byte offsets in binary ones).
+//! Byte cursor over a legacy file: whitespace tokens without allocation, binary blocks read
+//! straight into their destination, and error places (line numbers in ASCII files, byte offsets
+//! in binary ones). The input is either a slice in memory or a file read through a small
+//! window, so that big binary blocks are copied once, from the page cache into the array.
 
 use crate::{FormatError, Place};
+use std::borrow::Cow;
+use std::io::Read;
+
+/// Window growth when streaming from a file.
+const CHUNK: u64 = 1 << 16;
 
 pub(crate) struct Cursor<'a> {
-    pub bytes: &'a [u8],
+    /// The input from absolute offset `base` on (all of it for input in memory).
+    win: Cow<'a, [u8]>,
+    base: usize,
+    /// Newlines before `base` (for line numbers after the window moved).
+    lines_before: usize,
+    /// Absolute position in the input.
     pub pos: usize,
+    /// Length of the whole input.
+    len: usize,
+    file: Option<Box<dyn Read + 'a>>,
+    /// The same file, for positional reads of big blocks on several threads.
+    positional: Option<&'a std::fs::File>,
     /// A BINARY file: errors name byte offsets, since line numbers mean nothing after raw data.
     pub binary: bool,
+    /// `(keyword line position, data start)` of each binary block, to place errors in them.
+    blocks: Vec<(usize, usize)>,
 }
 
 fn is_ws(b: u8) -> bool {
@@ -17,36 +36,114 @@ fn is_ws(b: u8) -> bool {
 impl<'a> Cursor<'a> {
     pub fn new(bytes: &'a [u8]) -> Cursor<'a> {
         Cursor {
-            bytes,
+            win: Cow::Borrowed(bytes),
+            base: 0,
+            lines_before: 0,
             pos: 0,
+            len: bytes.len(),
+            file: None,
+            positional: None,
             binary: false,
+            blocks: Vec::new(),
         }
+    }
+
+    /// Streams `len` bytes from `file`.
+    pub fn from_reader(file: Box<dyn Read + 'a>, len: usize) -> Cursor<'a> {
+        Cursor {
+            win: Cow::Owned(Vec::new()),
+            base: 0,
+            lines_before: 0,
+            pos: 0,
+            len,
+            file: Some(file),
+            positional: None,
+            binary: false,
+            blocks: Vec::new(),
+        }
+    }
+
+    /// Streams a file from its start; big blocks are read by several threads at once.
+    pub fn from_file(file: &'a std::fs::File, len: usize) -> Cursor<'a> {
+        let mut c = Cursor::from_reader(Box::new(file), len);
+        c.positional = Some(file);
+        c
     }
 
     pub fn remaining(&self) -> usize {
-        self.bytes.len() - self.pos
+        self.len.saturating_sub(self.pos)
     }
 
-    pub fn skip_ws(&mut self) {
-        while self.pos < self.bytes.len() && is_ws(self.bytes[self.pos]) {
-            self.pos += 1;
+    /// Extends the window with more of the file, dropping what lies before `keep`; false at the
+    /// end of the input. A file shorter than it said ends the input where it ends.
+    fn fill(&mut self, keep: usize) -> bool {
+        let Some(file) = self.file.as_mut() else {
+            return false;
+        };
+        let end = self.base + self.win.len();
+        if end >= self.len {
+            return false;
         }
+        let keep = keep.clamp(self.base, end);
+        let drop = keep - self.base;
+        self.lines_before += self.win[..drop].iter().filter(|&&b| b == b'\n').count();
+        let mut v = self.win[drop..].to_vec();
+        let want = CHUNK.min((self.len - end) as u64);
+        let got = Read::by_ref(file)
+            .take(want)
+            .read_to_end(&mut v)
+            .unwrap_or(0);
+        self.win = Cow::Owned(v);
+        self.base = keep;
+        if got == 0 {
+            self.len = self.base + self.win.len();
+            return false;
+        }
+        true
     }
 
     /// The next whitespace-separated token and where it starts, or `None` at the end.
-    pub fn token(&mut self) -> Option<(usize, &'a [u8])> {
-        self.skip_ws();
-        let start = self.pos;
-        while self.pos < self.bytes.len() && !is_ws(self.bytes[self.pos]) {
-            self.pos += 1;
+    pub fn token(&mut self) -> Option<(usize, &[u8])> {
+        let entry = self.pos;
+        loop {
+            let i = self.pos - self.base;
+            match self.win[i..].iter().position(|&b| !is_ws(b)) {
+                Some(k) => {
+                    self.pos += k;
+                    break;
+                }
+                None => {
+                    self.pos = self.base + self.win.len();
+                    if !self.fill(entry) {
+                        return None;
+                    }
+                }
+            }
         }
-        (self.pos > start).then(|| (start, &self.bytes[start..self.pos]))
+        let start = self.pos;
+        loop {
+            let i = self.pos - self.base;
+            match self.win[i..].iter().position(|&b| is_ws(b)) {
+                Some(k) => {
+                    self.pos += k;
+                    break;
+                }
+                None => {
+                    self.pos = self.base + self.win.len();
+                    if !self.fill(start) {
+                        break;
+                    }
+                }
+            }
+        }
+        Some((start, &self.win[start - self.base..self.pos - self.base]))
     }
 
-    /// The next token, or an error saying what was expected.
-    pub fn expect(&mut self, what: &str) -> Result<(usize, &'a [u8]), FormatError> {
+    /// The next token (copied: keywords, names and counts only), or an error saying what was
+    /// expected.
+    pub fn expect(&mut self, what: &str) -> Result<(usize, Vec<u8>), FormatError> {
         match self.token() {
-            Some(t) => Ok(t),
+            Some((p, t)) => Ok((p, t.to_vec())),
             None => Err(self.err(self.pos, format!("unexpected end of file, expected {what}"))),
         }
     }
@@ -54,48 +151,62 @@ impl<'a> Cursor<'a> {
     /// The next token as a non-negative count that fits in memory terms (`usize`).
     pub fn expect_count(&mut self, what: &str) -> Result<usize, FormatError> {
         let (p, t) = self.expect(what)?;
-        parse_count(t).ok_or_else(|| {
-            self.err(
-                p,
-                format!(
+        match parse_count(&t) {
+            Some(n) => Ok(n),
+            None => {
+                let m = format!(
                     "expected {what} (a non-negative integer), found '{}'",
-                    show(t)
-                ),
-            )
-        })
+                    show(&t)
+                );
+                Err(self.err(p, m))
+            }
+        }
     }
 
-    /// Peeks at the next token without consuming it.
-    pub fn peek(&mut self) -> Option<(usize, &'a [u8])> {
+    /// Peeks at the next token without consuming it; the text is copied (keywords only).
+    pub fn peek(&mut self) -> Option<(usize, Vec<u8>)> {
         let save = self.pos;
-        let t = self.token();
+        let t = self.token().map(|(p, t)| (p, t.to_vec()));
         self.pos = save;
         t
     }
 
     /// The rest of the current line (without `\r\n`), consuming the newline.
-    pub fn line(&mut self) -> &'a [u8] {
+    pub fn line(&mut self) -> &[u8] {
         let start = self.pos;
-        let end = memchr_nl(&self.bytes[start..]).map_or(self.bytes.len(), |i| start + i);
-        self.pos = (end + 1).min(self.bytes.len());
-        let mut line = &self.bytes[start..end];
-        if let Some(stripped) = line.strip_suffix(b"\r") {
-            line = stripped;
+        let end;
+        loop {
+            let i = self.pos - self.base;
+            match self.win[i..].iter().position(|&b| b == b'\n') {
+                Some(k) => {
+                    end = self.pos + k;
+                    self.pos = end + 1;
+                    break;
+                }
+                None => {
+                    self.pos = self.base + self.win.len();
+                    if !self.fill(start) {
+                        end = self.pos;
+                        break;
+                    }
+                }
+            }
         }
-        line
+        let line = &self.win[start - self.base..end - self.base];
+        line.strip_suffix(b"\r").unwrap_or(line)
     }
 
     /// Moves to the first byte after the end of the current line: where VTK starts binary data
     /// after a keyword line.
     pub fn begin_binary(&mut self) {
-        match memchr_nl(&self.bytes[self.pos..]) {
-            Some(i) => self.pos += i + 1,
-            None => self.pos = self.bytes.len(),
-        }
+        let at = self.pos;
+        self.line();
+        self.blocks.push((at, self.pos));
     }
 
-    /// Takes `n` raw bytes, checking they are present.
-    pub fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], FormatError> {
+    /// Fills `dst` with the next bytes, checking they are present.
+    pub fn read_into(&mut self, dst: &mut [u8], what: &str) -> Result<(), FormatError> {
+        let n = dst.len();
         if n > self.remaining() {
             return Err(self.err(
                 self.pos,
@@ -105,38 +216,82 @@ impl<'a> Cursor<'a> {
                 ),
             ));
         }
-        let s = &self.bytes[self.pos..self.pos + n];
+        let i = self.pos - self.base;
+        let have = (self.win.len() - i).min(n);
+        dst[..have].copy_from_slice(&self.win[i..i + have]);
+        if have < n {
+            let at = self.pos + have;
+            let rest = &mut dst[have..];
+            let result = match self.positional {
+                Some(f) if rest.len() >= PARALLEL_READ => read_parallel(f, rest, at as u64),
+                _ => match self.file.as_mut() {
+                    Some(file) => file.read_exact(rest),
+                    None => Err(std::io::ErrorKind::UnexpectedEof.into()),
+                },
+            };
+            if let Err(e) = result {
+                return Err(FormatError::new(
+                    Place::Byte(at as u64),
+                    format!("{what}: reading failed ({e}); was the file truncated?"),
+                ));
+            }
+            // The window lies wholly behind us now.
+            self.lines_before += self.win.iter().filter(|&&b| b == b'\n').count();
+            self.win = Cow::Owned(Vec::new());
+            self.base = self.pos + n;
+        }
         self.pos += n;
-        Ok(s)
+        Ok(())
     }
 
-    /// Where value `k` of a block whose keyword line ends at or after `at` is: its byte offset in
-    /// binary data (`size` bytes each), its token in text. Only errors call this.
+    /// The next `n` bytes as a vector (small blocks: bits, string lengths and strings).
+    pub fn take(&mut self, n: usize, what: &str) -> Result<Vec<u8>, FormatError> {
+        if n > self.remaining() {
+            return Err(self.err(
+                self.pos,
+                format!(
+                    "{what}: needs {n} bytes but only {} remain",
+                    self.remaining()
+                ),
+            ));
+        }
+        let mut v = vec![0u8; n];
+        self.read_into(&mut v, what)?;
+        Ok(v)
+    }
+
+    /// Where value `k` of a block whose keyword line ends at `at` is: its byte offset in binary
+    /// data (`size` bytes each), its token in text. Only errors call this.
     pub fn value_at(&self, at: usize, k: usize, size: usize) -> usize {
         if self.binary {
-            let start = memchr_nl(&self.bytes[at.min(self.bytes.len())..])
-                .map_or(self.bytes.len(), |i| at + i + 1);
+            let start = self
+                .blocks
+                .iter()
+                .rev()
+                .find(|b| b.0 == at)
+                .map_or(at, |b| b.1);
             return start.saturating_add(k.saturating_mul(size));
         }
-        let mut c = Cursor {
-            bytes: self.bytes,
-            pos: at,
-            binary: false,
-        };
+        if at < self.base {
+            return at;
+        }
+        let mut c = Cursor::new(&self.win);
+        c.pos = at - self.base;
         let mut p = at;
         for _ in 0..=k {
             match c.token() {
-                Some((q, _)) => p = q,
+                Some((q, _)) => p = q + self.base,
                 None => break,
             }
         }
         p
     }
 
-    /// 1-based line number of byte `pos`.
+    /// 1-based line number of byte `pos`. Blocks read straight from a file are not counted:
+    /// only BINARY files stream, and their errors name byte offsets instead.
     pub fn line_at(&self, pos: usize) -> usize {
-        let end = pos.min(self.bytes.len());
-        1 + self.bytes[..end].iter().filter(|&&b| b == b'\n').count()
+        let end = pos.clamp(self.base, self.base + self.win.len()) - self.base;
+        1 + self.lines_before + self.win[..end].iter().filter(|&&b| b == b'\n').count()
     }
 
     /// An error at byte `pos`: a line number in ASCII files, a byte offset in binary ones.
@@ -150,8 +305,23 @@ impl<'a> Cursor<'a> {
     }
 }
 
-fn memchr_nl(s: &[u8]) -> Option<usize> {
-    s.iter().position(|&b| b == b'\n')
+/// Blocks at least this big are read in parallel pieces of `PIECE` bytes.
+const PARALLEL_READ: usize = 8 << 20;
+const PIECE: usize = 4 << 20;
+
+/// Reads `dst` from `file` at `offset` with positional reads on several threads: the kernel's
+/// copy and the page faults of fresh memory are the cost of a big read, and both run in
+/// parallel this way. Leaves the file's own position just after the block.
+fn read_parallel(file: &std::fs::File, dst: &mut [u8], offset: u64) -> std::io::Result<()> {
+    use rayon::prelude::*;
+    use std::io::{Seek, SeekFrom};
+    use std::os::unix::fs::FileExt;
+    dst.par_chunks_mut(PIECE)
+        .enumerate()
+        .try_for_each(|(i, piece)| file.read_exact_at(piece, offset + (i * PIECE) as u64))?;
+    let mut f = file;
+    f.seek(SeekFrom::Start(offset + dst.len() as u64))?;
+    Ok(())
 }
 
 /// Parses a decimal non-negative integer, refusing signs, junk and overflow.
@@ -194,13 +364,13 @@ mod tests {
     #[test]
     fn tokens_lines_and_counts() {
         let mut c = Cursor::new(b"  POINTS\t12 float\r\nabc\n");
-        assert_eq!(c.token().map(|t| t.1), Some(&b"POINTS"[..]));
+        assert_eq!(c.token().map(|t| t.1.to_vec()), Some(b"POINTS".to_vec()));
         assert_eq!(c.expect_count("n").ok(), Some(12));
-        assert_eq!(c.token().map(|t| t.1), Some(&b"float"[..]));
+        assert_eq!(c.token().map(|t| t.1.to_vec()), Some(b"float".to_vec()));
         assert_eq!(c.line(), b"");
         assert_eq!(c.line_at(c.pos), 2);
         assert_eq!(c.line(), b"abc");
-        assert_eq!(c.token(), None);
+        assert!(c.token().is_none());
         assert_eq!(parse_count(b"18446744073709551616"), None);
         assert_eq!(parse_count(b"-1"), None);
         assert_eq!(parse_count(b"1099511627776"), Some(1 << 40));
@@ -212,6 +382,46 @@ mod tests {
         c.binary = true;
         c.begin_binary();
         assert!(c.take(4, "data").is_err());
-        assert_eq!(c.take(3, "data").ok(), Some(&b"abc"[..]));
+        assert_eq!(c.take(3, "data").ok(), Some(b"abc".to_vec()));
+    }
+
+    /// A reader that hands out a few bytes per call, to cross every window edge.
+    struct Trickle<'a>(&'a [u8]);
+    impl Read for Trickle<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let n = buf.len().min(self.0.len()).min(3);
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn streaming_matches_memory() {
+        let mut text = b"# head\nPOINTS  123456 float\nxy\n".to_vec();
+        text.extend((0..200_000u32).map(|i| (i % 251) as u8));
+        text.extend_from_slice(b"\nCELL_TYPES 3\ntail line\n");
+        for short in [false, true] {
+            let len = text.len() + if short { 50 } else { 0 };
+            let mut c = Cursor::from_reader(Box::new(Trickle(&text)), len);
+            assert_eq!(c.line(), b"# head");
+            assert_eq!(c.expect("kw").unwrap().1, b"POINTS");
+            assert_eq!(c.expect_count("n").unwrap(), 123456);
+            assert_eq!(c.peek().unwrap().1, b"float");
+            assert_eq!(c.expect("type").unwrap().1, b"float");
+            assert_eq!(c.line_at(c.pos), 2);
+            c.begin_binary();
+            assert_eq!(c.line(), b"xy");
+            let mut block = vec![0u8; 200_000];
+            c.read_into(&mut block, "block").unwrap();
+            assert_eq!(block[1000], (1000 % 251) as u8);
+            assert_eq!(c.expect("kw").unwrap().1, b"CELL_TYPES");
+            assert_eq!(c.expect_count("n").unwrap(), 3);
+            c.line();
+            assert_eq!(c.line(), b"tail line");
+            assert!(c.token().is_none());
+            let mut more = [0u8; 10];
+            assert!(c.read_into(&mut more, "more").is_err());
+        }
     }
 }

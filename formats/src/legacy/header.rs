@@ -14,8 +14,8 @@ pub(crate) struct Header {
 
 /// Parses the header and leaves the cursor at the start of the fourth line.
 pub(crate) fn parse(cur: &mut Cursor<'_>) -> Result<Header, FormatError> {
-    let first = cur.line();
-    let first = first.strip_prefix("\u{feff}".as_bytes()).unwrap_or(first);
+    let first = cur.line().to_vec();
+    let first = first.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&first);
     let magic = b"# vtk DataFile Version";
     if first.len() < magic.len() || !first[..magic.len()].eq_ignore_ascii_case(magic) {
         return Err(cur.err(
@@ -44,21 +44,21 @@ pub(crate) fn parse(cur: &mut Cursor<'_>) -> Result<Header, FormatError> {
             format!("version {major}.{minor} is newer than 5.1, the newest this reader knows"),
         ));
     }
-    if cur.pos >= cur.bytes.len() {
+    if cur.remaining() == 0 {
         return Err(cur.err(cur.pos, "unexpected end of file: no title line"));
     }
     let title = String::from_utf8_lossy(cur.line()).into_owned();
     let (p, t) = cur.expect("ASCII or BINARY on the third line")?;
-    let binary = if is_kw(t, "ASCII") {
+    let binary = if is_kw(&t, "ASCII") {
         false
-    } else if is_kw(t, "BINARY") {
+    } else if is_kw(&t, "BINARY") {
         true
     } else {
         return Err(cur.err(
             p,
             format!(
                 "expected ASCII or BINARY on the third line, found '{}'",
-                show(t)
+                show(&t)
             ),
         ));
     };

@@ -20,5 +20,5 @@ mod values;
 mod write;
 
 pub use attributes::LOOKUP_TABLE_PREFIX;
-pub use read::read;
+pub use read::{read, read_path};
 pub use write::write;

@@ -21,10 +21,15 @@ pub(crate) fn decode(t: &[u8]) -> String {
 
 /// Escapes what would break a whitespace-separated token or a line: whitespace, `%`, `"`,
 /// control and non-ASCII bytes (as vtkDataWriter::EncodeString does).
+/// Names that read as keywords where an array name may stand (`METADATA` after any array,
+/// `NULL_ARRAY` in FIELD blocks) get their first byte escaped too.
 pub(crate) fn encode(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
-    for &b in s.as_bytes() {
-        if b.is_ascii_graphic() && b != b'%' && b != b'"' {
+    let keyword = ["METADATA", "NULL_ARRAY"]
+        .iter()
+        .any(|k| s.eq_ignore_ascii_case(k));
+    for (i, &b) in s.as_bytes().iter().enumerate() {
+        if b.is_ascii_graphic() && b != b'%' && b != b'"' && !(keyword && i == 0) {
             out.push(b as char);
         } else {
             out.push_str(&format!("%{b:02X}"));
@@ -39,7 +44,16 @@ mod tests {
 
     #[test]
     fn round_trip() {
-        for s in ["a b", "100%", "é\t\"x\"", "", "%2"] {
+        assert_eq!(encode("metadata"), "%6Detadata");
+        for s in [
+            "a b",
+            "100%",
+            "é\t\"x\"",
+            "",
+            "%2",
+            "METADATA",
+            "null_array",
+        ] {
             assert_eq!(decode(encode(s).as_bytes()), s);
         }
         assert_eq!(decode(b"a%20b%zz%4"), "a b%zz%4");

@@ -6,12 +6,14 @@ use super::attributes::{read_field, read_metadata, read_section, read_type};
 use super::cursor::{is_kw, show, Cursor};
 use super::header;
 use super::values::{read_numeric, read_values, LegacyType};
-use crate::{cell_type, ArrayData, Cells, DataArray, Grid, Result};
+use crate::{cell_type, ArrayData, Cells, DataArray, FormatError, Grid, Result};
+use rayon::prelude::*;
+use std::path::Path;
 
 /// Cells as the file gives them, before the types arrive.
 enum RawCells {
     /// 4.2: `npts id id ...` per cell; `at` is where the block started (for errors).
-    Counts { n: usize, data: Vec<i64>, at: usize },
+    Counts { n: usize, data: Vec<i32>, at: usize },
     /// 5.1: offsets (cells + 1) and connectivity; `conn_at`/`conn_size` locate CONNECTIVITY's
     /// values for errors.
     Offsets {
@@ -27,20 +29,44 @@ enum RawCells {
 pub fn read(bytes: &[u8]) -> Result<Grid> {
     let mut cur = Cursor::new(bytes);
     header::parse(&mut cur)?;
+    read_body(cur)
+}
+
+/// Reads a legacy file from disk. BINARY files are streamed, so each big block is copied once,
+/// from the file straight into its array; ASCII files are read whole (their errors name lines).
+pub fn read_path(path: &Path) -> Result<Grid> {
+    let io = |e| FormatError::io(path, e);
+    let file = std::fs::File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    let len = usize::try_from(len).map_err(|_| {
+        FormatError::whole("the file is larger than memory can address").with_file(path)
+    })?;
+    let mut cur = Cursor::from_file(&file, len);
+    let head = header::parse(&mut cur).map_err(|e| e.with_file(path))?;
+    if !head.binary {
+        let bytes = std::fs::read(path).map_err(io)?;
+        return read(&bytes).map_err(|e| e.with_file(path));
+    }
+    read_body(cur).map_err(|e| e.with_file(path))
+}
+
+/// Everything after the header.
+fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     let mut grid = Grid::default();
     let mut have_dataset = false;
     let mut have_points = false;
     let mut raw: Option<RawCells> = None;
     let mut types: Option<(Vec<u8>, usize)> = None;
-    while let Some((p, t)) = cur.token() {
+    while let Some((p, t)) = cur.token().map(|(p, t)| (p, t.to_vec())) {
+        let t = &t[..];
         if is_kw(t, "DATASET") {
             let (q, kind) = cur.expect("the dataset type")?;
-            if !is_kw(kind, "UNSTRUCTURED_GRID") {
+            if !is_kw(&kind, "UNSTRUCTURED_GRID") {
                 return Err(cur.err(
                     q,
                     format!(
                         "dataset type '{}' is not supported: only UNSTRUCTURED_GRID is read",
-                        show(kind)
+                        show(&kind)
                     ),
                 ));
             }
@@ -86,17 +112,16 @@ pub fn read(bytes: &[u8]) -> Result<Grid> {
             raw = Some(read_cells(&mut cur, p)?);
         } else if is_kw(t, "CELL_TYPES") {
             let n = cur.expect_count("the number of cell types")?;
+            let at = cur.pos;
             let v: Vec<i32> = read_values(&mut cur, n, "CELL_TYPES")?;
-            let mut out = Vec::with_capacity(v.len());
-            for (i, &x) in v.iter().enumerate() {
-                match u8::try_from(x).ok().filter(|&t| cell_type::is_known(t)) {
-                    Some(t) => out.push(t),
-                    None => {
-                        return Err(cur.err(p, format!("CELL_TYPES: cell {i} has unknown type {x}")))
-                    }
-                }
+            let known = |x: i32| u8::try_from(x).is_ok_and(cell_type::is_known);
+            if let Some(i) = first_where(&v, |&x| !known(x)) {
+                return Err(cur.err(
+                    cur.value_at(at, i, 4),
+                    format!("CELL_TYPES: cell {i} has unknown type {}", v[i]),
+                ));
             }
-            types = Some((out, p));
+            types = Some((v.par_iter().map(|&x| x as u8).collect(), p));
         } else if is_kw(t, "POINT_DATA") || is_kw(t, "CELL_DATA") {
             let point = is_kw(t, "POINT_DATA");
             let n = cur.expect_count("the number of tuples")?;
@@ -146,6 +171,31 @@ pub fn read(bytes: &[u8]) -> Result<Grid> {
     Ok(grid)
 }
 
+/// Scans in parallel blocks, each a plain loop the compiler can vectorize (rayon's
+/// `position_first` pays for early exit on every element).
+const SCAN: usize = 1 << 16;
+
+/// Index of the first element where `bad` holds.
+fn first_where<T: Sync>(v: &[T], bad: impl Fn(&T) -> bool + Sync) -> Option<usize> {
+    v.par_chunks(SCAN)
+        .enumerate()
+        .filter_map(|(b, c)| c.iter().position(&bad).map(|k| b * SCAN + k))
+        .min()
+}
+
+/// Index `i` of the first `v[i + 1] < v[i]`.
+fn first_decrease(v: &[i64]) -> Option<usize> {
+    let n = v.len().saturating_sub(1);
+    (0..n.div_ceil(SCAN))
+        .into_par_iter()
+        .filter_map(|b| {
+            let a = b * SCAN;
+            let w = &v[a..(a + SCAN + 1).min(v.len())];
+            w.windows(2).position(|p| p[1] < p[0]).map(|k| a + k)
+        })
+        .min()
+}
+
 fn first_non_finite(d: &ArrayData) -> Option<usize> {
     match d {
         ArrayData::Float32(v) => v.iter().position(|x| !x.is_finite()),
@@ -190,7 +240,7 @@ fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
     let a = cur.expect_count("the CELLS count")?;
     let b = cur.expect_count("the CELLS size")?;
     match cur.peek() {
-        Some((_, t)) if is_kw(t, "OFFSETS") => {
+        Some((_, t)) if is_kw(&t, "OFFSETS") => {
             cur.token();
             let ty = read_type(cur, "OFFSETS")?;
             let q = cur.pos;
@@ -198,10 +248,10 @@ fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
             let offsets = to_i64(cur, q, "OFFSETS", offsets)?;
             read_metadata(cur, 1)?;
             let (q, t) = cur.expect("CONNECTIVITY")?;
-            if !is_kw(t, "CONNECTIVITY") {
+            if !is_kw(&t, "CONNECTIVITY") {
                 return Err(cur.err(
                     q,
-                    format!("expected CONNECTIVITY after OFFSETS, found '{}'", show(t)),
+                    format!("expected CONNECTIVITY after OFFSETS, found '{}'", show(&t)),
                 ));
             }
             let ty = read_type(cur, "CONNECTIVITY")?;
@@ -223,12 +273,8 @@ fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
                 return Err(cur.err(at, format!("CELLS declares {a} cells in {b} integers")));
             }
             let at = cur.pos;
-            let v: Vec<i32> = read_values(cur, b, "CELLS")?;
-            Ok(RawCells::Counts {
-                n: a,
-                data: v.into_iter().map(i64::from).collect(),
-                at,
-            })
+            let data: Vec<i32> = read_values(cur, b, "CELLS")?;
+            Ok(RawCells::Counts { n: a, data, at })
         }
     }
 }
@@ -265,7 +311,7 @@ fn assemble(
             if offsets[0] != 0 {
                 return Err(cur.err(at, format!("OFFSETS starts at {}, expected 0", offsets[0])));
             }
-            if let Some(i) = offsets.windows(2).position(|w| w[1] < w[0]) {
+            if let Some(i) = first_decrease(&offsets) {
                 return Err(cur.err(
                     at,
                     format!(
@@ -309,48 +355,7 @@ fn assemble(
         }
         RawCells::Counts { n, data, at } => {
             count_check(n)?;
-            let mut offsets = Vec::with_capacity(n + 1);
-            offsets.push(0i64);
-            let mut conn = Vec::with_capacity(data.len() - n);
-            let mut k = 0usize;
-            for (i, &ty) in types.iter().enumerate() {
-                let npts = data.get(k).copied().ok_or_else(|| {
-                    cur.err(at, format!("CELLS: the data ends before cell {i} of {n}"))
-                })?;
-                let end = usize::try_from(npts)
-                    .ok()
-                    .and_then(|m| (k + 1).checked_add(m))
-                    .filter(|&e| e <= data.len())
-                    .ok_or_else(|| {
-                        cur.err(
-                            at,
-                            format!(
-                                "CELLS: cell {i} declares {npts} points, more than the block holds"
-                            ),
-                        )
-                    })?;
-                let ids = &data[k + 1..end];
-                if ty != cell_type::POLYHEDRON {
-                    if let Some(m) = ids.iter().position(|&x| out_of_range(x)) {
-                        return Err(cur.err(
-                            cur.value_at(at, k + 1 + m, 4),
-                            format!("CELLS: cell {i} has point id {} outside 0..{np}", ids[m]),
-                        ));
-                    }
-                }
-                conn.extend_from_slice(ids);
-                offsets.push(conn.len() as i64);
-                k = end;
-            }
-            if k != data.len() {
-                return Err(cur.err(
-                    at,
-                    format!(
-                        "CELLS: {n} cells use {k} of the {} declared integers",
-                        data.len()
-                    ),
-                ));
-            }
+            let (offsets, conn) = split_counts(cur, &data, &types, at, np)?;
             (offsets, conn, at)
         }
     };
@@ -363,6 +368,87 @@ fn assemble(
         });
     }
     expand_polyhedra(cur, at, types, &offsets, &conn, np)
+}
+
+/// 4.2's `npts id id ...` stream into offsets and connectivity. The counts are walked once
+/// (they decide where every cell starts), then ids are copied and checked in parallel: cell i's
+/// ids start at `offsets[i] + i + 1` in the stream.
+fn split_counts(
+    cur: &Cursor<'_>,
+    data: &[i32],
+    types: &[u8],
+    at: usize,
+    np: i64,
+) -> Result<(Vec<i64>, Vec<i64>)> {
+    let n = types.len();
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0i64);
+    let mut k = 0usize;
+    for i in 0..n {
+        let npts = data
+            .get(k)
+            .copied()
+            .ok_or_else(|| cur.err(at, format!("CELLS: the data ends before cell {i} of {n}")))?;
+        let end = usize::try_from(npts)
+            .ok()
+            .and_then(|m| (k + 1).checked_add(m))
+            .filter(|&e| e <= data.len())
+            .ok_or_else(|| {
+                cur.err(
+                    at,
+                    format!("CELLS: cell {i} declares {npts} points, more than the block holds"),
+                )
+            })?;
+        offsets.push((end - i - 1) as i64);
+        k = end;
+    }
+    if k != data.len() {
+        return Err(cur.err(
+            at,
+            format!(
+                "CELLS: {n} cells use {k} of the {} declared integers",
+                data.len()
+            ),
+        ));
+    }
+    let mut conn: Vec<i64> = bytemuck::zeroed_vec(data.len() - n);
+    // Cells in blocks; each block owns a contiguous piece of `conn`.
+    const BLOCK: usize = 1 << 15;
+    let mut pieces = Vec::with_capacity(n / BLOCK + 1);
+    let mut rest: &mut [i64] = &mut conn;
+    for c0 in (0..n).step_by(BLOCK) {
+        let c1 = (c0 + BLOCK).min(n);
+        let (piece, tail) = rest.split_at_mut((offsets[c1] - offsets[c0]) as usize);
+        pieces.push((c0, c1, piece));
+        rest = tail;
+    }
+    let bad = pieces
+        .into_par_iter()
+        .filter_map(|(c0, c1, piece)| {
+            let first = offsets[c0] as usize;
+            for i in c0..c1 {
+                let (s, e) = (offsets[i] as usize, offsets[i + 1] as usize);
+                let src = &data[s + i + 1..e + i + 1];
+                let dst = &mut piece[s - first..e - first];
+                for (d, &x) in dst.iter_mut().zip(src) {
+                    *d = x as i64;
+                }
+                if types[i] != cell_type::POLYHEDRON {
+                    if let Some(m) = dst.iter().position(|&x| x < 0 || x >= np) {
+                        return Some((i, s + i + 1 + m, dst[m]));
+                    }
+                }
+            }
+            None
+        })
+        .min();
+    if let Some((i, k, x)) = bad {
+        return Err(cur.err(
+            cur.value_at(at, k, 4),
+            format!("CELLS: cell {i} has point id {x} outside 0..{np}"),
+        ));
+    }
+    Ok((offsets, conn))
 }
 
 /// A polyhedron's entry is its face stream `nfaces, n0, ids.., n1, ids..`; VTK keeps the sorted

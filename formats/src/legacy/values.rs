@@ -59,20 +59,18 @@ impl LegacyType {
 }
 
 /// A numeric element as legacy files store it.
-pub(crate) trait Value: Copy + Send + Sync + 'static {
-    const SIZE: usize;
-    fn from_be(b: &[u8]) -> Self;
+pub(crate) trait Value: bytemuck::Pod + Send + Sync + 'static {
+    const SIZE: usize = std::mem::size_of::<Self>();
+    /// The value whose big-endian bytes this native value holds.
+    fn be_to_native(self) -> Self;
     fn parse_ascii(t: &[u8]) -> Option<Self>;
 }
 
 macro_rules! value_int {
     ($($t:ty),*) => {$(
         impl Value for $t {
-            const SIZE: usize = std::mem::size_of::<$t>();
-            fn from_be(b: &[u8]) -> Self {
-                let mut a = [0u8; std::mem::size_of::<$t>()];
-                a.copy_from_slice(b);
-                <$t>::from_be_bytes(a)
+            fn be_to_native(self) -> Self {
+                <$t>::from_be(self)
             }
             fn parse_ascii(t: &[u8]) -> Option<Self> {
                 std::str::from_utf8(t).ok()?.parse().ok()
@@ -83,13 +81,10 @@ macro_rules! value_int {
 value_int!(i8, u8, i16, u16, i32, u32, i64, u64);
 
 macro_rules! value_float {
-    ($($t:ty),*) => {$(
+    ($($t:ty, $bits:ty),*) => {$(
         impl Value for $t {
-            const SIZE: usize = std::mem::size_of::<$t>();
-            fn from_be(b: &[u8]) -> Self {
-                let mut a = [0u8; std::mem::size_of::<$t>()];
-                a.copy_from_slice(b);
-                <$t>::from_be_bytes(a)
+            fn be_to_native(self) -> Self {
+                <$t>::from_bits(<$bits>::from_be(self.to_bits()))
             }
             fn parse_ascii(t: &[u8]) -> Option<Self> {
                 let s = std::str::from_utf8(t).ok()?;
@@ -105,20 +100,21 @@ macro_rules! value_float {
         }
     )*};
 }
-value_float!(f32, f64);
+value_float!(f32, u32, f64, u64);
 
-/// Below this many bytes decoding is not worth a thread hop.
+/// Below this many bytes swapping is not worth a thread hop.
 const PAR_MIN: usize = 1 << 16;
 
-/// Decodes big-endian values, in parallel when the block is large.
-pub(crate) fn decode_be<T: Value>(src: &[u8]) -> Vec<T> {
-    if src.len() >= PAR_MIN {
-        src.par_chunks_exact(T::SIZE)
-            .with_min_len(PAR_MIN / T::SIZE)
-            .map(T::from_be)
-            .collect()
+/// Turns big-endian values read into `v` into native ones, in parallel when the block is large.
+pub(crate) fn swap_be<T: Value>(v: &mut [T]) {
+    if cfg!(target_endian = "big") {
+        return;
+    }
+    if v.len() * T::SIZE >= PAR_MIN {
+        v.par_chunks_mut(PAR_MIN / T::SIZE)
+            .for_each(|c| c.iter_mut().for_each(|x| *x = x.be_to_native()));
     } else {
-        src.chunks_exact(T::SIZE).map(T::from_be).collect()
+        v.iter_mut().for_each(|x| *x = x.be_to_native());
     }
 }
 
@@ -134,8 +130,20 @@ pub(crate) fn read_values<T: Value>(
         let bytes = n
             .checked_mul(T::SIZE)
             .ok_or_else(|| cur.err(start, format!("{what}: {n} values is too many (overflow)")))?;
-        let src = cur.take(bytes, what)?;
-        return Ok(decode_be(src));
+        if bytes > cur.remaining() {
+            return Err(cur.err(
+                start,
+                format!(
+                    "{what}: needs {bytes} bytes of binary data but only {} remain (truncated file or wrong count)",
+                    cur.remaining()
+                ),
+            ));
+        }
+        // Zeroed allocation maps fresh pages lazily; the read fills them once, from the file.
+        let mut v: Vec<T> = bytemuck::zeroed_vec(n);
+        cur.read_into(bytemuck::cast_slice_mut(&mut v), what)?;
+        swap_be(&mut v);
+        return Ok(v);
     }
     read_ascii(cur, n, what, T::parse_ascii)
 }
@@ -159,22 +167,23 @@ pub(crate) fn read_ascii<T>(
     }
     let mut out = Vec::with_capacity(n.min(cur.remaining() / 2 + 1));
     for i in 0..n {
-        let (p, t) = cur.token().ok_or_else(|| {
-            cur.err(
+        let Some((p, t)) = cur.token() else {
+            return Err(cur.err(
                 cur.pos,
                 format!("{what}: unexpected end of file after {i} of {n} values"),
-            )
-        })?;
+            ));
+        };
         match parse(t) {
             Some(v) => out.push(v),
             None => {
+                let t = t.to_vec();
                 return Err(cur.err(
                     p,
                     format!(
                         "{what}: value {i} of {n} is '{}', not a number of the declared type",
-                        show(t)
+                        show(&t)
                     ),
-                ))
+                ));
             }
         }
     }
@@ -256,7 +265,7 @@ fn read_strings(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<String
                 _ => {
                     let b = cur.take(7, what)?;
                     let mut a = [first; 8];
-                    a[1..].copy_from_slice(b);
+                    a[1..].copy_from_slice(&b);
                     u64::from_be_bytes(a)
                 }
             };
@@ -270,14 +279,17 @@ fn read_strings(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<String
                     )
                 })?;
             let s = cur.take(len, what)?;
-            out.push(String::from_utf8_lossy(s).into_owned());
+            out.push(
+                String::from_utf8(s)
+                    .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()),
+            );
         }
         return Ok(out);
     }
     // The strings start on the line after the array header.
     cur.line();
     for i in 0..n {
-        if cur.pos >= cur.bytes.len() {
+        if cur.remaining() == 0 {
             return Err(cur.err(
                 cur.pos,
                 format!("{what}: unexpected end of file after {i} of {n} strings"),

@@ -23,7 +23,7 @@ mod read;
 mod records;
 mod write;
 
-pub use read::read;
+pub use read::{read, read_parts};
 pub use write::write;
 
 /// Array names the reader gives and the writer looks for.

@@ -22,24 +22,51 @@ fn load(path: &Path) -> Result<Vec<u8>> {
 /// points without cells).
 pub fn read(path: &Path) -> Result<Grid> {
     let stem = path.with_extension("");
-    let node_path = sibling(&stem, "node");
     let ele_path = sibling(&stem, "ele");
-    let face_path = sibling(&stem, "face");
-    let neigh_path = sibling(&stem, "neigh");
-    let mut grid = Grid::default();
-    let nodes = read_node(&load(&node_path)?, &node_path, &mut grid)?;
-    if !ele_path.exists() {
-        if path.extension().is_some_and(|e| e != "node") {
-            return Err(FormatError::whole("the .ele file is missing").with_file(&ele_path));
+    let node = load(&sibling(&stem, "node"))?;
+    let optional = |ext: &str| -> Result<Option<Vec<u8>>> {
+        let p = sibling(&stem, ext);
+        if p.exists() {
+            load(&p).map(Some)
+        } else {
+            Ok(None)
         }
+    };
+    let ele = optional("ele")?;
+    if ele.is_none() && path.extension().is_some_and(|e| e != "node") {
+        return Err(FormatError::whole("the .ele file is missing").with_file(&ele_path));
+    }
+    let face = optional("face")?;
+    let neigh = optional("neigh")?;
+    read_parts(
+        &stem,
+        &node,
+        ele.as_deref(),
+        face.as_deref(),
+        neigh.as_deref(),
+    )
+}
+
+/// Reads a mesh from the contents of its files; `stem` (`dir/mesh.1`) only names them in
+/// errors. `.face` and `.neigh` are used only with an `.ele`.
+pub fn read_parts(
+    stem: &Path,
+    node: &[u8],
+    ele: Option<&[u8]>,
+    face: Option<&[u8]>,
+    neigh: Option<&[u8]>,
+) -> Result<Grid> {
+    let mut grid = Grid::default();
+    let nodes = read_node(node, &sibling(stem, "node"), &mut grid)?;
+    let Some(ele) = ele else {
         return Ok(grid);
+    };
+    let eles = read_ele(ele, &sibling(stem, "ele"), nodes, &mut grid)?;
+    if let Some(face) = face {
+        read_face(face, &sibling(stem, "face"), nodes, eles, &mut grid)?;
     }
-    let ele = read_ele(&load(&ele_path)?, &ele_path, nodes, &mut grid)?;
-    if face_path.exists() {
-        read_face(&load(&face_path)?, &face_path, nodes, ele, &mut grid)?;
-    }
-    if neigh_path.exists() {
-        read_neigh(&load(&neigh_path)?, &neigh_path, ele, &mut grid)?;
+    if let Some(neigh) = neigh {
+        read_neigh(neigh, &sibling(stem, "neigh"), eles, &mut grid)?;
     }
     Ok(grid)
 }
