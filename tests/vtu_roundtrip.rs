@@ -222,3 +222,26 @@ proptest! {
         prop_assert!(eq.is_ok(), "{:?}/{:?}: {:?}", opts.encoding, opts.compression, eq.err());
     }
 }
+
+#[test]
+fn bench_io_runs_on_a_small_file() {
+    // Only that the command works end to end; speed is measured by scripts/bench_io.py.
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetkit"))
+        .args(["bench", "io", "--repeat", "1", "--json", "--dir"])
+        .arg(dir.path())
+        .arg(fixtures().join("tet_appended_none_h64_le.vtu"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["cells"], 135);
+    assert_eq!(v["steps"].as_array().unwrap().len(), 5);
+    let raw = formats::read(&dir.path().join("tetkit_bench_raw.vtu")).unwrap();
+    let zlib = formats::read(&dir.path().join("tetkit_bench_zlib.vtu")).unwrap();
+    grids_bit_eq(&raw, &zlib).unwrap();
+}

@@ -1,10 +1,24 @@
-//! `tetkit bench`: benchmarks on generated meshes, printed as tables.
+//! `tetkit bench`: benchmarks, one subcommand each (`bench io`, ...), each in its own file under
+//! `bench/`. Speed is measured here, never asserted in tests.
 
-use clap::Args;
+mod io;
+
+use clap::{Args, Subcommand};
 
 #[derive(Args, Debug)]
-pub struct BenchArgs {}
+pub struct BenchArgs {
+    #[command(subcommand)]
+    pub which: BenchCommand,
+}
 
-pub fn run(_args: &BenchArgs) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+#[derive(Subcommand, Debug)]
+pub enum BenchCommand {
+    /// Read and write a .vtu (appended raw and zlib): time, throughput and peak memory.
+    Io(io::IoArgs),
+}
+
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    match &args.which {
+        BenchCommand::Io(a) => io::run(a),
+    }
 }

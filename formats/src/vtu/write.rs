@@ -12,8 +12,16 @@ use std::borrow::Cow;
 use std::fmt::Write as _;
 use std::io::Write;
 
-/// zlib/lzma level; VTK's default.
-const LEVEL: u32 = 5;
+/// Compression level by compressor. miniz_oxide (flate2's backend) at level 2 is 3x faster than
+/// at VTK's 5 and, on mesh arrays, within 2% of its size (measured on the 4.85M-tet bench mesh's
+/// connectivity); lzma at 2 keeps writing usable on large meshes.
+fn level(c: Compressor) -> u32 {
+    match c {
+        Compressor::Zlib => 2,
+        Compressor::Lzma => 2,
+        Compressor::None | Compressor::Lz4 => 0,
+    }
+}
 
 /// One array as it goes out: its XML attributes and its bytes in native order.
 struct Out<'a> {
@@ -132,7 +140,7 @@ fn ascii_text(v: &Values) -> String {
 }
 
 fn inline_binary(data: &[u8], layout: &Layout) -> std::result::Result<Vec<u8>, String> {
-    let e = block::encode(data, layout, LEVEL)?;
+    let e = block::encode(data, layout, level(layout.compressor))?;
     let mut text = Vec::with_capacity(e.len() / 3 * 4 + 8);
     if layout.compressor == Compressor::None {
         // VTK encodes an uncompressed header and its data as one base64 stream.
@@ -161,9 +169,9 @@ fn store<'a>(o: &'a Out<'a>, enc: Encoding, layout: &Layout) -> Result<Stored<'a
         }
         Encoding::Ascii => Stored::Ascii(ascii_text(&o.values)),
         Encoding::Binary => Stored::Inline(inline_binary(&o.data, layout).map_err(fail)?),
-        Encoding::Appended => {
-            Stored::Appended(block::encode(&o.data, layout, LEVEL).map_err(fail)?)
-        }
+        Encoding::Appended => Stored::Appended(
+            block::encode(&o.data, layout, level(layout.compressor)).map_err(fail)?,
+        ),
     })
 }
 
