@@ -121,6 +121,16 @@ fn sizes_of_two_to_the_forty_are_refused_before_allocating() {
     p.extend_from_slice(bytemuck::cast_slice(&TET));
     let e = err(&one_tet(p, raw(&[0i64, 1, 2, 3]), &huge.to_string()));
     assert!(e.contains("byte"), "{e}");
+    // A huge component count with a component name: no list of 2^40 names.
+    let f = handmade(
+        "header_type=\"UInt64\"",
+        "NumberOfPoints=\"4\" NumberOfCells=\"0\"",
+        &[
+            ("Points", "type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"", raw(&TET)),
+            ("PointData", "type=\"Float64\" Name=\"v\" NumberOfComponents=\"1099511627776\" ComponentName0=\"x\"", raw(&TET)),
+        ],
+    );
+    assert!(err(&f).contains("1099511627776 components"));
     // NumberOfPoints that overflows tuples x components.
     let e = err(&one_tet(
         raw(&TET),

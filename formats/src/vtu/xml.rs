@@ -184,6 +184,13 @@ fn array_from(a: &[(String, String)], pos: u64) -> Result<ArrayXml> {
         }
     }
     if !component_names.is_empty() {
+        // Names are looked up for the first 4096 components only; never size a list by an
+        // unchecked count.
+        if components > 4096 {
+            return Err(here(format!(
+                "{components} components with ComponentName attributes (at most 4096 are supported)"
+            )));
+        }
         component_names.resize(components, String::new());
     }
     let tuples = match get(a, "NumberOfTuples") {
