@@ -146,10 +146,23 @@ mb = r.GetOutput()
 n = mb.GetNumberOfBlocks()
 cells = sum(mb.GetBlock(i).GetNumberOfCells() for i in range(n))
 leaf = all(mb.GetBlock(i).GetCellData().GetArray("leaf_id") is not None for i in range(n))
-print(n, cells, leaf)
+p = vtk.vtkXMLPUnstructuredGridReader()
+p.SetFileName(sys.argv[2])
+p.Update()
+g = p.GetOutput()
+print(n, cells, leaf, p.GetNumberOfPieces(), g.GetNumberOfCells(), g.GetCellData().GetArray("leaf_id") is not None)
 "#;
-    let out = common::vtk_python(code, &[&dir.join("pieces/split.vtm").display().to_string()]);
-    assert_eq!(out.trim(), format!("{leaves} {tets} True"));
+    let out = common::vtk_python(
+        code,
+        &[
+            &dir.join("pieces/split.vtm").display().to_string(),
+            &dir.join("pieces/split.pvtu").display().to_string(),
+        ],
+    );
+    assert_eq!(
+        out.trim(),
+        format!("{leaves} {tets} True {leaves} {tets} True")
+    );
 }
 
 fn volume_of(m: &TetMesh) -> f64 {

@@ -49,7 +49,7 @@ pub struct PartitionArgs {
     /// EPS: the paper's balance threshold on alpha = |l - r| / ((l + r) / 2).
     #[arg(long, default_value_t = 0.2)]
     pub eps: f64,
-    /// Also write one .vtu per leaf into DIR, with DIR/<stem>.vtm naming them.
+    /// Also write one .vtu per leaf into DIR/<stem>/, named by DIR/<stem>.pvtu and DIR/<stem>.vtm.
     #[arg(long, value_name = "DIR")]
     pub pieces: Option<PathBuf>,
     /// Print the report as JSON on stdout instead of a table on stderr.
@@ -130,11 +130,12 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "split".into());
         let pieces = output::leaf_pieces(&result.mesh, &result.tree);
-        let vtm = output::write_pieces(dir, &stem, &pieces, &wopts)?;
+        let (pvtu, vtm) = output::write_pieces(dir, &stem, &pieces, &wopts)?;
         if !args.json {
             eprintln!(
-                "tetkit: wrote {} leaf pieces named by {}",
+                "tetkit: wrote {} leaf pieces, named by {} and {}",
                 pieces.len(),
+                pvtu.display(),
                 vtm.display()
             );
         }

@@ -429,9 +429,22 @@ impl Build {
             marked[a as usize] = true;
             marked[b as usize] = true;
         }
-        let found: Vec<(u32, Option<Pieces>)> = (0..self.tets.len() as u32)
-            .into_par_iter()
-            .filter(|&t| self.node_of[t as usize] as usize != n)
+        // Only nodes whose boxes touch this one can hold tets sharing its edges.
+        let b = self.nodes[n].bounds;
+        let touching: Vec<&[u32]> = self
+            .nodes
+            .iter()
+            .enumerate()
+            .filter(|(i, x)| {
+                *i != n
+                    && x.split.is_none()
+                    && (0..3).all(|k| x.bounds.min[k] <= b.max[k] && b.min[k] <= x.bounds.max[k])
+            })
+            .map(|(_, x)| x.tets.as_slice())
+            .collect();
+        let found: Vec<(u32, Option<Pieces>)> = touching
+            .par_iter()
+            .flat_map(|list| list.par_iter().copied())
             .filter_map(|t| {
                 let q = self.tets[t as usize];
                 if q.iter().filter(|&&v| marked[v as usize]).count() < 2 {

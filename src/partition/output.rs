@@ -119,48 +119,46 @@ pub fn leaf_pieces(mesh: &TetMesh, tree: &KdTree) -> Vec<TetMesh> {
     out
 }
 
-/// Writes one .vtu per leaf into `dir/<stem>/` and `dir/<stem>.vtm` naming them (a
-/// vtkMultiBlockDataSet that ParaView and VTK open as one dataset with a block per leaf). On an
-/// error the files already written are removed. Returns the .vtm path.
+/// Writes one .vtu per leaf into `dir/<stem>/<stem>_<leaf>.vtu`, with two files naming them:
+/// `dir/<stem>.pvtu` (a parallel unstructured grid: ParaView reads its pieces in parallel across
+/// server processes) and `dir/<stem>.vtm` (a multiblock with one block per leaf, to colour or
+/// hide leaves one by one). The .pvtu and its pieces appear together or not at all; if the .vtm
+/// then fails, they are removed. Returns the two paths.
 pub fn write_pieces(
     dir: &Path,
     stem: &str,
     pieces: &[TetMesh],
     opts: &WriteOptions,
-) -> Result<PathBuf> {
-    let sub = dir.join(stem);
-    std::fs::create_dir_all(&sub).with_context(|| format!("creating {}", sub.display()))?;
-    let mut written: Vec<PathBuf> = Vec::new();
-    let result = (|| -> Result<PathBuf> {
-        let mut xml = String::from(
-            "<?xml version=\"1.0\"?>\n<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\">\n  <vtkMultiBlockDataSet>\n",
-        );
-        for (i, piece) in pieces.iter().enumerate() {
-            let name = format!("{stem}_{i}.vtu");
-            let path = sub.join(&name);
-            formats::write(&path, &piece.to_grid(), opts)?;
-            written.push(path);
-            xml.push_str(&format!(
-                "    <DataSet index=\"{i}\" name=\"leaf_{i}\" file=\"{}/{name}\"/>\n",
-                xml_escape(stem)
-            ));
-        }
-        xml.push_str("  </vtkMultiBlockDataSet>\n</VTKFile>\n");
-        let vtm = dir.join(format!("{stem}.vtm"));
-        let mut f = formats::atomic::AtomicFile::create(&vtm)
-            .with_context(|| format!("creating {}", vtm.display()))?;
-        std::io::Write::write_all(&mut f, xml.as_bytes())
-            .with_context(|| format!("writing {}", vtm.display()))?;
-        f.commit()
-            .with_context(|| format!("writing {}", vtm.display()))?;
-        Ok(vtm)
-    })();
-    if result.is_err() {
-        for p in &written {
-            let _ = std::fs::remove_file(p);
-        }
+) -> Result<(PathBuf, PathBuf)> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let pvtu = dir.join(format!("{stem}.pvtu"));
+    let grids: Vec<Grid> = pieces.iter().map(TetMesh::to_grid).collect();
+    formats::vtu::pvtu::write(&pvtu, &grids, opts)?;
+    let vtm = dir.join(format!("{stem}.vtm"));
+    let mut xml = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\">\n  <vtkMultiBlockDataSet>\n",
+    );
+    for i in 0..pieces.len() {
+        xml.push_str(&format!(
+            "    <DataSet index=\"{i}\" name=\"leaf_{i}\" file=\"{s}/{s}_{i}.vtu\"/>\n",
+            s = xml_escape(stem)
+        ));
     }
-    result
+    xml.push_str("  </vtkMultiBlockDataSet>\n</VTKFile>\n");
+    let written = (|| -> std::io::Result<()> {
+        let mut f = formats::atomic::AtomicFile::create(&vtm)?;
+        std::io::Write::write_all(&mut f, xml.as_bytes())?;
+        f.commit()
+    })();
+    if let Err(e) = written {
+        for i in 0..pieces.len() {
+            let _ = std::fs::remove_file(dir.join(stem).join(format!("{stem}_{i}.vtu")));
+        }
+        let _ = std::fs::remove_dir(dir.join(stem));
+        let _ = std::fs::remove_file(&pvtu);
+        return Err(e).with_context(|| format!("writing {}", vtm.display()));
+    }
+    Ok((pvtu, vtm))
 }
 
 fn xml_escape(s: &str) -> String {

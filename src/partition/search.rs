@@ -189,83 +189,112 @@ pub fn cost_positions(coords: &[f64], n: usize) -> Vec<f64> {
     out
 }
 
-/// Exact counts for every candidate position (sorted, distinct) on `axis`: one pass over the tets
-/// with difference arrays, so the cost is O(tets log candidates).
-pub fn evaluate_axis(
+/// Adds one tet's contribution to the difference arrays of one axis. `s`: the tet's vertex
+/// coordinates on the axis, sorted; `exact`: some positions may equal a vertex coordinate.
+#[inline]
+fn add_tet(d: &mut [[i64; 4]], positions: &[f64], s: &[f64; 4], exact: bool) {
+    let m = positions.len();
+    let lt = |x: f64| positions.partition_point(|&c| c < x);
+    let mut add = |from: usize, to: usize, v: [i64; 4]| {
+        if from < to {
+            for k in 0..4 {
+                d[from][k] += v[k];
+                d[to][k] -= v[k];
+            }
+        }
+    };
+    let l = [lt(s[0]), lt(s[1]), lt(s[2]), lt(s[3])];
+    // Positions never equal to a coordinate: "< x" and "<= x" find the same index.
+    let e = if exact {
+        s.map(|x| positions.partition_point(|&c| c <= x))
+    } else {
+        l
+    };
+    add(0, l[0], [0, 1, 0, 0]);
+    add(e[0], l[1], [1, 3, 1, 4]);
+    add(e[1], l[2], [3, 3, 1, 6]);
+    add(e[2], l[3], [3, 1, 1, 4]);
+    add(e[3], m, [1, 0, 0, 0]);
+    if !exact {
+        return;
+    }
+    for i in 0..4 {
+        if (i > 0 && s[i] == s[i - 1]) || l[i] == e[i] {
+            continue;
+        }
+        let x = s[i];
+        let below = s.iter().filter(|&&y| y < x).count() as u8;
+        let on = s.iter().filter(|&&y| y == x).count() as u8;
+        let (lc, rc) = case_counts(below, on, 4 - below - on);
+        let cut = (lc > 0 && rc > 0) as i64;
+        add(
+            l[i],
+            e[i],
+            [lc as i64, rc as i64, cut, cut * (lc + rc) as i64],
+        );
+    }
+}
+
+/// Exact counts for every candidate position (sorted, distinct) of each axis, in one pass over
+/// the tets with difference arrays: O(tets log candidates), each tet's points read once.
+pub fn evaluate(
     node_tets: &[u32],
     tets: &[[u32; 4]],
     points: &[[f64; 3]],
-    axis: usize,
-    positions: &[f64],
-) -> Vec<Candidate> {
-    let m = positions.len();
-    if m == 0 {
-        return Vec::new();
-    }
-    // diff[k][i]: left, right, cut, pieces.
-    let zero = || vec![[0i64; 4]; m + 1];
+    positions: &[Vec<f64>; 3],
+    coords: &[Vec<f64>; 3],
+) -> [Vec<Candidate>; 3] {
+    let exact: [bool; 3] = [0, 1, 2].map(|a| {
+        positions[a]
+            .iter()
+            .any(|p| coords[a].binary_search_by(|c| c.total_cmp(p)).is_ok())
+    });
+    let zero = || [0, 1, 2].map(|a| vec![[0i64; 4]; positions[a].len() + 1]);
     let diff = node_tets
         .par_iter()
         .fold(zero, |mut d, &t| {
-            let mut s = tets[t as usize].map(|v| points[v as usize][axis]);
-            s.sort_unstable_by(f64::total_cmp);
-            let lt = |x: f64| positions.partition_point(|&c| c < x);
-            let le = |x: f64| positions.partition_point(|&c| c <= x);
-            let mut add = |from: usize, to: usize, v: [i64; 4]| {
-                if from < to {
-                    for k in 0..4 {
-                        d[from][k] += v[k];
-                        d[to][k] -= v[k];
-                    }
-                }
-            };
-            add(0, lt(s[0]), [0, 1, 0, 0]);
-            add(le(s[0]), lt(s[1]), [1, 3, 1, 4]);
-            add(le(s[1]), lt(s[2]), [3, 3, 1, 6]);
-            add(le(s[2]), lt(s[3]), [3, 1, 1, 4]);
-            add(le(s[3]), m, [1, 0, 0, 0]);
-            for i in 0..4 {
-                if i > 0 && s[i] == s[i - 1] {
+            let q = tets[t as usize].map(|v| points[v as usize]);
+            for a in 0..3 {
+                if positions[a].is_empty() {
                     continue;
                 }
-                let (a, b) = (lt(s[i]), le(s[i]));
-                if a < b {
-                    let c = |f: &dyn Fn(f64) -> bool| s.iter().filter(|&&x| f(x)).count() as u8;
-                    let x = s[i];
-                    let (l, r) = case_counts(c(&|y| y < x), c(&|y| y == x), c(&|y| y > x));
-                    let cut = (l > 0 && r > 0) as i64;
-                    add(a, b, [l as i64, r as i64, cut, cut * (l + r) as i64]);
-                }
+                let mut s = q.map(|p| p[a]);
+                s.sort_unstable_by(f64::total_cmp);
+                add_tet(&mut d[a], &positions[a], &s, exact[a]);
             }
             d
         })
-        .reduce(zero, |mut a, b| {
-            for (x, y) in a.iter_mut().zip(&b) {
-                for k in 0..4 {
-                    x[k] += y[k];
+        .reduce(zero, |mut x, y| {
+            for a in 0..3 {
+                for (u, v) in x[a].iter_mut().zip(&y[a]) {
+                    for k in 0..4 {
+                        u[k] += v[k];
+                    }
                 }
             }
-            a
+            x
         });
-    let mut acc = [0i64; 4];
-    positions
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            for k in 0..4 {
-                acc[k] += diff[i][k];
-            }
-            Candidate {
-                axis: axis as u8,
-                position: p,
-                left: acc[0] as u64,
-                right: acc[1] as u64,
-                cut: acc[2] as u64,
-                pieces: acc[3] as u64,
-                clearance: 0.0,
-            }
-        })
-        .collect()
+    [0, 1, 2].map(|a| {
+        let mut acc = [0i64; 4];
+        positions[a]
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                for k in 0..4 {
+                    acc[k] += diff[a][i][k];
+                }
+                Candidate {
+                    axis: a as u8,
+                    position: p,
+                    left: acc[0] as u64,
+                    right: acc[1] as u64,
+                    cut: acc[2] as u64,
+                    pieces: acc[3] as u64,
+                    clearance: clearance(&coords[a], p),
+                }
+            })
+            .collect()
+    })
 }
 
 /// The plane to split a node with, or `None` when no candidate qualifies.
@@ -280,20 +309,11 @@ pub fn choose_plane(
         return None;
     }
     let coords = vertex_coordinates(node_tets, tets, points);
-    let per_axis: Vec<Vec<Candidate>> = (0..3)
-        .into_par_iter()
-        .map(|a| {
-            let pos = match params.strategy {
-                Strategy::Paper => paper_positions(&coords[a], params.candidates),
-                Strategy::Cost => cost_positions(&coords[a], params.candidates),
-            };
-            let mut c = evaluate_axis(node_tets, tets, points, a, &pos);
-            for x in &mut c {
-                x.clearance = clearance(&coords[a], x.position);
-            }
-            c
-        })
-        .collect();
+    let positions = [0, 1, 2].map(|a| match params.strategy {
+        Strategy::Paper => paper_positions(&coords[a], params.candidates),
+        Strategy::Cost => cost_positions(&coords[a], params.candidates),
+    });
+    let per_axis = evaluate(node_tets, tets, points, &positions, &coords);
     let two_sided = |c: &Candidate| c.left > 0 && c.right > 0;
     match params.strategy {
         Strategy::Paper => {
@@ -360,20 +380,27 @@ mod tests {
         jitter(&mut m, [5, 4, 3], 0.2, 3);
         let node: Vec<u32> = (0..m.tets.len() as u32).collect();
         let coords = vertex_coordinates(&node, &m.tets, &m.points);
-        for (axis, axis_coords) in coords.iter().enumerate() {
-            // Gap midpoints, exact vertex coordinates and positions outside the mesh.
-            let mut pos = paper_positions(axis_coords, 9);
-            pos.extend(axis_coords.iter().step_by(3));
+        // Gap midpoints, exact vertex coordinates and positions outside the mesh.
+        let positions = [0, 1, 2].map(|a| {
+            let mut pos = paper_positions(&coords[a], 9);
+            pos.extend(coords[a].iter().step_by(3));
             pos.extend([-1.0, 2.0]);
             pos.sort_unstable_by(f64::total_cmp);
             pos.dedup();
-            for c in evaluate_axis(&node, &m.tets, &m.points, axis, &pos) {
-                assert_eq!(
-                    (c.left, c.right, c.cut, c.pieces),
-                    brute(&node, &m.tets, &m.points, axis, c.position),
-                    "axis {axis} at {}",
-                    c.position
-                );
+            pos
+        });
+        let paper = [0, 1, 2].map(|a| paper_positions(&coords[a], 9));
+        for set in [positions, paper] {
+            let all = evaluate(&node, &m.tets, &m.points, &set, &coords);
+            for (axis, cands) in all.iter().enumerate() {
+                for c in cands {
+                    assert_eq!(
+                        (c.left, c.right, c.cut, c.pieces),
+                        brute(&node, &m.tets, &m.points, axis, c.position),
+                        "axis {axis} at {}",
+                        c.position
+                    );
+                }
             }
         }
     }
