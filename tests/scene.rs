@@ -332,3 +332,77 @@ fn surface_and_box_with_the_same_faces_classify_alike() {
         }
     }
 }
+
+#[test]
+fn culling_and_triangle_bins_change_no_code() {
+    // Bodies seen by a camera inside one of them, and by an orthographic one.
+    let text = format!(
+        "[[body]]\nshape = \"surface\"\nfile = \"{}\"\n\
+         [[body]]\nshape = \"box\"\nmin = [0.4, 0.4, 0.4]\nmax = [0.9, 0.6, 0.7]\n\
+         [[body]]\nshape = \"cone\"\nstart = [0.5, 0.0, 0.5]\nend = [0.5, 0.5, 0.5]\nstart_radius = 0.3\nend_radius = 0.0\n",
+        fixture("sphere.stl").display()
+    );
+    let s = scene::parse(&text, Path::new("t.toml")).unwrap();
+    for cam in [
+        Camera {
+            position: [0.5, 0.45, 0.55],
+            focal: [0.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            view_angle: 60.0,
+            parallel: false,
+            parallel_scale: 1.0,
+        },
+        Camera {
+            position: [2.0, 1.5, 3.0],
+            focal: [0.5, 0.5, 0.5],
+            up: [0.0, 1.0, 0.0],
+            view_angle: 30.0,
+            parallel: false,
+            parallel_scale: 1.0,
+        },
+        Camera {
+            position: [2.0, 1.5, 3.0],
+            focal: [0.5, 0.5, 0.5],
+            up: [0.0, 0.0, 1.0],
+            view_angle: 30.0,
+            parallel: true,
+            parallel_scale: 0.6,
+        },
+    ] {
+        let culled = ray::View::new(&s, cam, 48, 40);
+        let mut all = ray::View::new(&s, cam, 48, 40);
+        all.culling = false;
+        let (mut a, mut b) = (ray::RayRegions::default(), ray::RayRegions::default());
+        let mut crossings = 0;
+        for py in 0..40 {
+            for px in 0..48 {
+                let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+                culled.pixel(x, y, &mut a);
+                all.pixel(x, y, &mut b);
+                assert_eq!(
+                    (a.start, &a.depths, &a.codes),
+                    (b.start, &b.depths, &b.codes)
+                );
+                crossings += a.depths.len();
+            }
+        }
+        assert!(crossings > 100, "{crossings}");
+    }
+    // The camera inside the sphere surface starts with its bit set at every pixel.
+    let v = ray::View::new(
+        &s,
+        Camera {
+            position: [0.5, 0.45, 0.55],
+            focal: [0.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            view_angle: 60.0,
+            parallel: false,
+            parallel_scale: 1.0,
+        },
+        8,
+        8,
+    );
+    let mut r = ray::RayRegions::default();
+    v.pixel(3.5, 4.5, &mut r);
+    assert_eq!(r.start & 1, 1);
+}

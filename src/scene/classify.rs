@@ -9,7 +9,7 @@
 
 use rayon::prelude::*;
 
-use super::exact::{det3_sign, orient, ZERO};
+use super::exact::{det3_sign, orient, orient2, parallel};
 use super::{Primitive, Scene, Shape, TriSurface};
 use crate::geom::{dot, sub, Aabb};
 use crate::mesh::TetMesh;
@@ -53,86 +53,102 @@ pub fn tet_code(scene: &Scene, bounds: &[Aabb], p: &[[f64; 3]; 4]) -> u8 {
     code
 }
 
-/// Whether a plane (given as a sign function) weakly separates the point sets: all of `a` on one
-/// closed side and all of `b` on the other.
-fn separates(a: &[[f64; 3]], b: &[[f64; 3]], side: impl Fn(&[f64; 3]) -> i32) -> bool {
-    let sa: Vec<i32> = a.iter().map(&side).collect();
-    let sb: Vec<i32> = b.iter().map(&side).collect();
-    (sa.iter().all(|&s| s >= 0) && sb.iter().all(|&s| s <= 0))
-        || (sa.iter().all(|&s| s <= 0) && sb.iter().all(|&s| s >= 0))
+/// Whether a plane weakly separates the tet from the other point set: the tet's signs `ta`
+/// and the others' `sb` on opposite closed sides.
+fn separates(ta: &[i32], sb: impl Iterator<Item = i32> + Clone) -> bool {
+    (ta.iter().all(|&s| s >= 0) && sb.clone().all(|s| s <= 0))
+        || (ta.iter().all(|&s| s <= 0) && sb.clone().all(|s| s >= 0))
 }
 
-/// Separating-axis test between a tet (open) and a convex polytope given by vertices, face
-/// triples and edge directions: true when no candidate plane weakly separates them, i.e. when the
-/// tet's interior meets the polytope (its interior, if it is solid; itself, if it is flat).
-fn tet_meets_polytope(
-    p: &[[f64; 3]; 4],
-    verts: &[[f64; 3]],
-    faces: &[[usize; 3]],
-    edges: &[[usize; 2]],
-) -> bool {
+/// Separating planes through a tet face: the face's own vertices are on it (sign 0), so only the
+/// opposite vertex and the other set are evaluated.
+fn tet_face_separates(p: &[[f64; 3]; 4], others: &[[f64; 3]]) -> bool {
+    TET_FACES.iter().enumerate().any(|(i, f)| {
+        let (a, b, c) = (p[f[0]], p[f[1]], p[f[2]]);
+        let own = orient(&a, &b, &c, &p[i]);
+        others.iter().all(|x| orient(&a, &b, &c, x) * own <= 0)
+    })
+}
+
+fn tet_box(p: &[[f64; 3]; 4], min: &[f64; 3], max: &[f64; 3]) -> bool {
     if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
         return false; // a flat tet has no interior
     }
-    for f in TET_FACES {
-        let (a, b, c) = (p[f[0]], p[f[1]], p[f[2]]);
-        if separates(p, verts, |x| orient(&a, &b, &c, x)) {
-            return false;
-        }
+    // Quick accept: a tet vertex strictly inside the open box.
+    if p.iter()
+        .any(|v| (0..3).all(|k| min[k] < v[k] && v[k] < max[k]))
+    {
+        return true;
     }
-    for f in faces {
-        let (a, b, c) = (verts[f[0]], verts[f[1]], verts[f[2]]);
-        if separates(p, verts, |x| orient(&a, &b, &c, x)) {
-            return false;
-        }
+    // The box's own face planes are the axis-aligned box test the caller already made.
+    let corners: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            [
+                if i & 1 == 0 { min[0] } else { max[0] },
+                if i & 2 == 0 { min[1] } else { max[1] },
+                if i & 4 == 0 { min[2] } else { max[2] },
+            ]
+        })
+        .collect();
+    if tet_face_separates(p, &corners) {
+        return false;
     }
-    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for e in TET_EDGES {
-        let (q0, q1) = (p[e[0]], p[e[1]]);
-        for f in edges {
-            let (u0, u1) = (verts[f[0]], verts[f[1]]);
-            // Parallel edges span no plane.
-            if axes
-                .iter()
-                .all(|ax| det3_sign((q1, q0), (u1, u0), (*ax, ZERO)) == 0)
-            {
-                continue;
-            }
-            if separates(p, verts, |x| det3_sign((q1, q0), (u1, u0), (*x, q0))) {
+    // Planes through a tet edge parallel to axis k: exact 2-D orientation in the other two axes.
+    for k in 0..3 {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let side = |a: &[f64; 3], b: &[f64; 3], x: &[f64; 3]| {
+            orient2([a[i], a[j]], [b[i], b[j]], [x[i], x[j]])
+        };
+        // An edge along the axis spans no plane with it: all its signs are 0, which `separates`
+        // would take for a separation, so such edges are skipped.
+        let skip = |q0: &[f64; 3], q1: &[f64; 3]| q0[i] == q1[i] && q0[j] == q1[j];
+        if TET_EDGES.iter().any(|e| {
+            let (q0, q1) = (p[e[0]], p[e[1]]);
+            if skip(&q0, &q1) {
                 return false;
             }
+            let rest: Vec<i32> = (0..4)
+                .filter(|&m| m != e[0] && m != e[1])
+                .map(|m| side(&q0, &q1, &p[m]))
+                .collect();
+            separates(&rest, corners.iter().map(|x| side(&q0, &q1, x)))
+        }) {
+            return false;
         }
     }
     true
 }
 
-fn tet_box(p: &[[f64; 3]; 4], min: &[f64; 3], max: &[f64; 3]) -> bool {
-    // Quick accept: a tet vertex strictly inside the open box.
-    if p.iter()
-        .any(|v| (0..3).all(|k| min[k] < v[k] && v[k] < max[k]))
-        && orient(&p[0], &p[1], &p[2], &p[3]) != 0
-    {
-        return true;
+/// Whether the open tet meets the closed triangle `v`: no separating plane among the tet's
+/// faces, the triangle's plane and the planes through a tet edge parallel to a triangle edge.
+fn tet_triangle(p: &[[f64; 3]; 4], v: &[[f64; 3]; 3]) -> bool {
+    if tet_face_separates(p, v) {
+        return false;
     }
-    let c = |i: usize| {
-        [
-            if i & 1 == 0 { min[0] } else { max[0] },
-            if i & 2 == 0 { min[1] } else { max[1] },
-            if i & 4 == 0 { min[2] } else { max[2] },
-        ]
-    };
-    let verts: Vec<[f64; 3]> = (0..8).map(c).collect();
-    // One face per axis side (any three corners of it), one edge per axis.
-    let faces = [
-        [0, 2, 4],
-        [1, 3, 5],
-        [0, 1, 4],
-        [2, 3, 6],
-        [0, 1, 2],
-        [4, 5, 6],
-    ];
-    let edges = [[0, 1], [0, 2], [0, 4]];
-    tet_meets_polytope(p, &verts, &faces, &edges)
+    let tri_side: Vec<i32> = p.iter().map(|x| orient(&v[0], &v[1], &v[2], x)).collect();
+    if tri_side.iter().all(|&s| s >= 0) || tri_side.iter().all(|&s| s <= 0) {
+        return false;
+    }
+    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+        let (u0, u1) = (v[a], v[b]);
+        let sep = TET_EDGES.iter().any(|e| {
+            let (q0, q1) = (p[e[0]], p[e[1]]);
+            if parallel((q1, q0), (u1, u0)) {
+                return false;
+            }
+            let side = |x: &[f64; 3]| det3_sign((q1, q0), (u1, u0), (*x, q0));
+            let rest: Vec<i32> = (0..4)
+                .filter(|&m| m != e[0] && m != e[1])
+                .map(|m| side(&p[m]))
+                .collect();
+            // u0 and u1 give the same sign (the plane is parallel to u1 - u0).
+            separates(&rest, [side(&u0), side(&v[3 - a - b])].into_iter())
+        });
+        if sep {
+            return false;
+        }
+    }
+    true
 }
 
 /// Closest point of triangle `abc` to `x` (Ericson, Real-Time Collision Detection 5.1.5).
@@ -331,15 +347,15 @@ fn tet_surface(p: &[[f64; 3]; 4], tb: &Aabb, s: &TriSurface) -> bool {
     if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
         return false;
     }
-    let tri_faces = [[0usize, 1, 2]];
-    let tri_edges = [[0usize, 1], [1, 2], [2, 0]];
-    for t in &s.tris {
-        let v = t.map(|i| s.points[i as usize]);
+    let mut ids = Vec::new();
+    s.candidates(tb, &mut ids);
+    for &ti in &ids {
+        let v = s.tris[ti as usize].map(|i| s.points[i as usize]);
         if (0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
         {
             continue;
         }
-        if tet_meets_polytope(p, &v, &tri_faces, &tri_edges) {
+        if tet_triangle(p, &v) {
             return true;
         }
     }

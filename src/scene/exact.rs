@@ -108,7 +108,57 @@ pub const ZERO: [f64; 3] = [0.0; 3];
 /// Exact orientation of `x` against the plane through `a`, `b`, `c`: the sign of
 /// `det[b - a, c - a, x - a]` (positive when `x` is on the side `(b - a) x (c - a)` points to).
 pub fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], x: &[f64; 3]) -> i32 {
-    det3_sign((*b, *a), (*c, *a), (*x, *a))
+    // Shewchuk's adaptive predicate decides exact zeros (coplanar grid points) without the big
+    // integers, but only where no product underflows or overflows; `robust` is positive on the
+    // other side.
+    let ok = |v: f64| v == 0.0 || (1e-60..=1e60).contains(&v.abs());
+    if ![a, b, c, x].iter().all(|p| p.iter().all(|&v| ok(v)))
+        || ![b, c, x].iter().all(|p| (0..3).all(|k| ok(p[k] - a[k])))
+    {
+        return det3_sign((*b, *a), (*c, *a), (*x, *a));
+    }
+    let r = crate::geom::orient3d(a, b, c, x);
+    if r > 0.0 {
+        -1
+    } else if r < 0.0 {
+        1
+    } else {
+        0
+    }
+}
+
+/// Exact sign of the 2-D cross product `(b - a) x (c - a)` of points given by two coordinates.
+pub fn orient2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i32 {
+    let p = |v: [f64; 2]| robust::Coord { x: v[0], y: v[1] };
+    let r = robust::orient2d(p(a), p(b), p(c));
+    // robust: positive when a, b, c are counter-clockwise.
+    if r > 0.0 {
+        1
+    } else if r < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Whether `u x v` is exactly zero (parallel or zero vectors), `u = u.0 - u.1`, `v = v.0 - v.1`.
+pub fn parallel(u: Diff, v: Diff) -> bool {
+    let a = [0, 1, 2].map(|k| u.0[k] - u.1[k]);
+    let b = [0, 1, 2].map(|k| v.0[k] - v.1[k]);
+    let c = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let mag = a.iter().chain(b.iter()).fold(0.0f64, |m, x| m.max(x.abs()));
+    // A component clearly away from zero settles it without exact arithmetic.
+    if c.iter()
+        .any(|x| x.abs() > 8.0 * f64::EPSILON * mag * mag && mag * mag > 1e-280)
+    {
+        return false;
+    }
+    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    axes.iter().all(|ax| det3_sign(u, v, (*ax, ZERO)) == 0)
 }
 
 #[cfg(test)]

@@ -120,6 +120,58 @@ pub struct View<'a> {
     pub footprints: Vec<Footprint>,
     /// When false every body is tested at every pixel (to measure what culling saves).
     pub culling: bool,
+    frame: ([f64; 3], [f64; 3], [f64; 3]),
+    /// Per body: for surfaces, the triangles each screen tile may see.
+    bins: Vec<Option<TriBins>>,
+}
+
+/// Triangles of a surface binned by their screen rectangles (conservative), so a pixel's ray is
+/// tested only against the triangles of its tile.
+struct TriBins {
+    ntx: usize,
+    lists: Vec<Vec<u32>>,
+}
+
+const BIN: f64 = 16.0;
+
+fn bin_surface(s: &super::TriSurface, cam: &Camera, width: u32, height: u32) -> TriBins {
+    let ntx = (width as f64 / BIN).ceil() as usize;
+    let nty = (height as f64 / BIN).ceil() as usize;
+    let mut lists = vec![Vec::new(); ntx * nty];
+    let proj: Vec<[f64; 3]> = s
+        .points
+        .iter()
+        .map(|p| cam.project(p, width, height))
+        .collect();
+    let far = s
+        .points
+        .iter()
+        .map(|p| cam.project(p, width, height)[2].abs())
+        .fold(0.0f64, f64::max);
+    for (i, t) in s.tris.iter().enumerate() {
+        let q = t.map(|v| proj[v as usize]);
+        let (x0, x1, y0, y1) = if !cam.parallel && q.iter().any(|p| p[2] <= 1e-9 * (1.0 + far)) {
+            (0, ntx - 1, 0, nty - 1)
+        } else {
+            let b = |f: fn(f64, f64) -> f64, k: usize, init: f64| {
+                q.iter().fold(init, |m, p| f(m, p[k]))
+            };
+            // A pixel of margin for rounding in the projection.
+            let cell = |v: f64, n: usize| ((v / BIN).floor().max(0.0) as usize).min(n - 1);
+            (
+                cell(b(f64::min, 0, f64::INFINITY) - 1.0, ntx),
+                cell(b(f64::max, 0, f64::NEG_INFINITY) + 1.0, ntx),
+                cell(b(f64::min, 1, f64::INFINITY) - 1.0, nty),
+                cell(b(f64::max, 1, f64::NEG_INFINITY) + 1.0, nty),
+            )
+        };
+        for ty in y0..=y1 {
+            for tx in x0..=x1 {
+                lists[ty * ntx + tx].push(i as u32);
+            }
+        }
+    }
+    TriBins { ntx, lists }
 }
 
 /// Region codes along one ray: `start` at the ray origin, then each crossing (sorted by depth)
@@ -187,18 +239,70 @@ impl<'a> View<'a> {
             height,
             footprints,
             culling: true,
+            frame: camera.frame(),
+            bins: scene
+                .bodies
+                .iter()
+                .map(|b| match &b.shape {
+                    super::Shape::Surface(s) => Some(bin_surface(s, &camera, width, height)),
+                    _ => None,
+                })
+                .collect(),
+        }
+    }
+
+    /// The ray through pixel coordinates `(px, py)`: bit for bit [`Camera::pixel_ray`], with
+    /// the camera frame computed once.
+    pub fn pixel_ray(&self, px: f64, py: f64) -> ([f64; 3], [f64; 3]) {
+        let (r, u, f) = self.frame;
+        let cam = &self.camera;
+        let (width, height) = (self.width, self.height);
+        let aspect = width as f64 / height as f64;
+        let sx = (2.0 * px / width as f64 - 1.0) * aspect;
+        let sy = 1.0 - 2.0 * py / height as f64;
+        if cam.parallel {
+            let s = cam.parallel_scale;
+            let o = [0, 1, 2].map(|k| cam.position[k] + s * (sx * r[k] + sy * u[k]));
+            (o, f)
+        } else {
+            let t = (0.5 * cam.view_angle).to_radians().tan();
+            let d = [0, 1, 2].map(|k| f[k] + t * (sx * r[k] + sy * u[k]));
+            let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            (cam.position, if n > 0.0 { d.map(|x| x / n) } else { d })
         }
     }
 
     /// Region codes along the ray through pixel coordinates `(px, py)`.
     pub fn pixel(&self, px: f64, py: f64, out: &mut RayRegions) {
-        let (o, d) = self.camera.pixel_ray(px, py, self.width, self.height);
-        self.ray(
-            &o,
-            &d,
-            |i| !self.culling || self.footprints[i].covers(px, py),
-            out,
-        );
+        let (o, d) = self.pixel_ray(px, py);
+        self.ray_at(&o, &d, Some((px, py)), out);
+    }
+
+    /// Region codes along a ray that passes through pixel `(px, py)` (any origin on it), with
+    /// culling when on; `None`: a ray of no pixel, tested against every body and triangle.
+    pub fn ray_at(
+        &self,
+        o: &[f64; 3],
+        d: &[f64; 3],
+        pixel: Option<(f64, f64)>,
+        out: &mut RayRegions,
+    ) {
+        let active = |i: usize| match pixel {
+            Some((px, py)) => !self.culling || self.footprints[i].covers(px, py),
+            None => true,
+        };
+        let tris = |i: usize| -> Option<&[u32]> {
+            let (px, py) = pixel?;
+            if !self.culling {
+                return None;
+            }
+            let b = self.bins[i].as_ref()?;
+            let nty = b.lists.len() / b.ntx;
+            let tx = ((px / BIN).floor().max(0.0) as usize).min(b.ntx - 1);
+            let ty = ((py / BIN).floor().max(0.0) as usize).min(nty - 1);
+            Some(&b.lists[ty * b.ntx + tx])
+        };
+        self.ray_with(o, d, active, tris, out)
     }
 
     /// Region codes along any ray `o + t d`, `t >= 0`, testing the bodies `active` accepts.
@@ -207,6 +311,17 @@ impl<'a> View<'a> {
         o: &[f64; 3],
         d: &[f64; 3],
         active: impl Fn(usize) -> bool,
+        out: &mut RayRegions,
+    ) {
+        self.ray_with(o, d, active, |_| None, out)
+    }
+
+    fn ray_with<'b>(
+        &'b self,
+        o: &[f64; 3],
+        d: &[f64; 3],
+        active: impl Fn(usize) -> bool,
+        tris: impl Fn(usize) -> Option<&'b [u32]>,
         out: &mut RayRegions,
     ) {
         out.start = 0;
@@ -218,7 +333,12 @@ impl<'a> View<'a> {
                 continue;
             }
             out.hits.clear();
-            b.crossings(o, d, &mut out.hits);
+            match (&b.shape, tris(i)) {
+                (super::Shape::Surface(s), Some(ids)) => {
+                    s.crossings_among(o, d, Some(ids), &mut out.hits)
+                }
+                _ => b.crossings(o, d, &mut out.hits),
+            }
             if out.hits.len() % 2 == 1 {
                 // An odd number of crossings ahead: the origin is inside.
                 out.start |= 1 << i;

@@ -1,6 +1,7 @@
 //! Closed triangle surfaces as cutting bodies: reading them (.stl, .obj, .vtk, .vtp), checking
 //! that they are closed and consistently oriented, and exact ray crossings.
 
+mod grid;
 mod obj;
 mod stl;
 mod vtk;
@@ -21,6 +22,7 @@ pub struct TriSurface {
     pub points: Vec<[f64; 3]>,
     pub tris: Vec<[u32; 3]>,
     pub bounds: Aabb,
+    grid: grid::TriGrid,
 }
 
 /// Polygons as read from a file, before welding and checking.
@@ -108,11 +110,13 @@ impl TriSurface {
         }
         check_closed(&points, &tris)?;
         let bounds = Aabb::of_points(points.iter());
+        let grid = grid::TriGrid::build(&points, &tris, &bounds);
         Ok(TriSurface {
             file: path.to_path_buf(),
             points,
             tris,
             bounds,
+            grid,
         })
     }
 
@@ -122,6 +126,18 @@ impl TriSurface {
     /// `eps u + eps^2 w` (simulation of simplicity), with `u`, `w` the two coordinate axes other
     /// than `d`'s largest. Triangles seen edge-on never count (the moved line misses them).
     pub fn crossings(&self, o: &[f64; 3], d: &[f64; 3], out: &mut Vec<f64>) {
+        self.crossings_among(o, d, None, out)
+    }
+
+    /// [`TriSurface::crossings`] restricted to the triangles `among` (all when `None`); the
+    /// caller guarantees the others cannot be crossed.
+    pub fn crossings_among(
+        &self,
+        o: &[f64; 3],
+        d: &[f64; 3],
+        among: Option<&[u32]>,
+        out: &mut Vec<f64>,
+    ) {
         let k = (0..3)
             .max_by(|&a, &b| d[a].abs().total_cmp(&d[b].abs()))
             .unwrap_or(2);
@@ -156,8 +172,36 @@ impl TriSurface {
         } else {
             return;
         }
-        for t in &self.tris {
+        // A float filter first: shear along d onto the plane x_k = o_k, where the ray is the
+        // point (o_i, o_j); triangles whose sheared box misses it by more than any rounding are
+        // skipped before the exact signs.
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let (si, sj) = (d[i] / d[k], d[j] / d[k]);
+        let mag = [bmin, bmax, *o]
+            .iter()
+            .flat_map(|p| p.iter())
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let eps = 1e-12 * mag * (2.0 + si.abs() + sj.abs()) + f64::MIN_POSITIVE;
+        let shear = |p: &[f64; 3]| {
+            let dk = p[k] - o[k];
+            (p[i] - si * dk - o[i], p[j] - sj * dk - o[j])
+        };
+        let all = 0..self.tris.len() as u32;
+        let ids: Box<dyn Iterator<Item = u32>> = match among {
+            Some(ids) => Box::new(ids.iter().copied()),
+            None => Box::new(all),
+        };
+        for ti in ids {
+            let t = &self.tris[ti as usize];
             let [a, b, c] = t.map(|v| self.points[v as usize]);
+            let (sa, sb, sc) = (shear(&a), shear(&b), shear(&c));
+            if (sa.0 > eps && sb.0 > eps && sc.0 > eps)
+                || (sa.0 < -eps && sb.0 < -eps && sc.0 < -eps)
+                || (sa.1 > eps && sb.1 > eps && sc.1 > eps)
+                || (sa.1 < -eps && sb.1 < -eps && sc.1 < -eps)
+            {
+                continue;
+            }
             let s0 = side(&a, &b);
             let s1 = side(&b, &c);
             if s0 != s1 {
@@ -189,9 +233,16 @@ impl TriSurface {
         if !self.bounds.contains(p) {
             return false;
         }
+        let mut ids = Vec::new();
+        self.grid.column_up(p, &mut ids);
         let mut v = Vec::new();
-        self.crossings(p, &[0.0, 0.0, 1.0], &mut v);
+        self.crossings_among(p, &[0.0, 0.0, 1.0], Some(&ids), &mut v);
         v.len() % 2 == 1
+    }
+
+    /// Triangles whose boxes may overlap `b` (a superset; each once).
+    pub fn candidates(&self, b: &Aabb, out: &mut Vec<u32>) {
+        self.grid.candidates(b, out)
     }
 }
 
