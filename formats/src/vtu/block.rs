@@ -378,3 +378,80 @@ fn deflate(c: Compressor, src: &[u8], level: u32) -> std::result::Result<Vec<u8>
     };
     Ok(scratch[..n].to_vec())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn layouts() -> Vec<Layout> {
+        let mut v = Vec::new();
+        for compressor in [
+            Compressor::None,
+            Compressor::Zlib,
+            Compressor::Lz4,
+            Compressor::Lzma,
+        ] {
+            for header in [HeaderType::UInt32, HeaderType::UInt64] {
+                for order in [ByteOrder::LittleEndian, ByteOrder::BigEndian] {
+                    v.push(Layout {
+                        header,
+                        order,
+                        compressor,
+                    });
+                }
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn encode_then_plan_and_fill_round_trips_every_layout() {
+        for n in [
+            0usize,
+            1,
+            7,
+            BLOCK_SIZE - 1,
+            BLOCK_SIZE,
+            BLOCK_SIZE + 1,
+            3 * BLOCK_SIZE + 5,
+        ] {
+            let data: Vec<u8> = (0..n).map(|i| (i * 7 % 251) as u8).collect();
+            for layout in layouts() {
+                let e = encode(&data, &layout, 2).unwrap();
+                let mut bytes = e.header.clone();
+                for d in &e.data {
+                    bytes.extend_from_slice(d);
+                }
+                let region = Region::in_memory(&bytes, 0);
+                let plan = plan(&region, &layout, "a").unwrap();
+                assert_eq!(plan.total(), n as u64, "{layout:?}");
+                let mut out = vec![0u8; n];
+                fill(&region, &layout, &plan, &mut out, "a").unwrap();
+                assert_eq!(out, data, "{layout:?} n={n}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_cut_short_block_is_an_error_not_a_panic() {
+        let data = vec![5u8; 3 * BLOCK_SIZE];
+        for layout in layouts() {
+            let e = encode(&data, &layout, 2).unwrap();
+            let mut bytes = e.header.clone();
+            for d in &e.data {
+                bytes.extend_from_slice(d);
+            }
+            for cut in [
+                0,
+                3,
+                e.header.len() - 1,
+                e.header.len() + 1,
+                bytes.len() - 1,
+            ] {
+                let region = Region::in_memory(&bytes[..cut], 0);
+                let r = plan(&region, &layout, "a");
+                assert!(r.is_err(), "{layout:?} cut {cut}");
+            }
+        }
+    }
+}

@@ -448,3 +448,79 @@ fn attach(doc: &mut Document, parent: Ctx, a: ArrayXml, pos: u64) -> Result<()> 
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DOC: &str = r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" byte_order="BigEndian" header_type="UInt64" compressor="vtkLZ4DataCompressor">
+  <UnstructuredGrid>
+    <FieldData><Array type="String" Name="s" NumberOfTuples="2" format="ascii">104 0 0</Array></FieldData>
+    <Piece NumberOfPoints="2" NumberOfCells="0">
+      <PointData Scalars="t &amp; u">
+        <DataArray type="Float32" Name="t &amp; u" NumberOfComponents="2" ComponentName1="b" format="ascii">
+          1 2 3 4
+          <InformationKey name="L2_NORM_RANGE"><Value index="0">99</Value></InformationKey>
+        </DataArray>
+      </PointData>
+      <Points><DataArray type="Float64" NumberOfComponents="3" format="appended" offset="0"/></Points>
+    </Piece>
+  </UnstructuredGrid>
+  <AppendedData encoding="raw">
+   _binary"#;
+
+    #[test]
+    fn structure_attributes_and_text() {
+        let d = parse(DOC.as_bytes()).unwrap();
+        assert_eq!(d.layout.order, ByteOrder::BigEndian);
+        assert_eq!(d.layout.header, HeaderType::UInt64);
+        assert_eq!(d.layout.compressor, Compressor::Lz4);
+        assert_eq!(d.field_data[0].ty, ElemType::String);
+        let p = &d.pieces[0];
+        let a = &p.point_data.arrays[0];
+        assert_eq!(a.name, "t & u");
+        assert_eq!(a.component_names, vec!["".to_string(), "b".to_string()]);
+        // The InformationKey's text is not part of the array's values.
+        let text = String::from_utf8(a.text.clone()).unwrap();
+        assert_eq!(
+            text.split_whitespace().collect::<Vec<_>>(),
+            ["1", "2", "3", "4"]
+        );
+        assert_eq!(&DOC.as_bytes()[a.text_pos as usize..][..1], b"\n");
+        assert_eq!(
+            p.point_data.active,
+            vec![(Attribute::Scalars, "t & u".to_string())]
+        );
+        assert_eq!(p.points.as_ref().unwrap().offset, Some(0));
+        let app = d.appended.unwrap();
+        assert!(app.raw);
+        assert!(DOC[app.tag_end as usize..]
+            .trim_start()
+            .starts_with("_binary"));
+    }
+
+    #[test]
+    fn refusals() {
+        let doctype = DOC.replacen("<VTKFile", "<!DOCTYPE x [<!ENTITY a \"b\">]><VTKFile", 1);
+        assert!(parse(doctype.as_bytes())
+            .unwrap_err()
+            .message
+            .contains("DOCTYPE"));
+        let pvtu = DOC.replacen("\"UnstructuredGrid\"", "\"PUnstructuredGrid\"", 1);
+        assert!(parse(pvtu.as_bytes())
+            .unwrap_err()
+            .message
+            .contains(".pvtu"));
+        let bad = DOC.replacen("UInt64", "UInt16", 1);
+        assert!(parse(bad.as_bytes())
+            .unwrap_err()
+            .message
+            .contains("header_type"));
+        let cut = &DOC[..DOC.find("<AppendedData").unwrap()];
+        assert!(parse(cut.as_bytes())
+            .unwrap_err()
+            .message
+            .contains("truncated"));
+    }
+}
