@@ -2,6 +2,7 @@
 //! `bench/`. Speed is measured here, never asserted in tests.
 
 mod io;
+mod legacy;
 
 use clap::{Args, Subcommand};
 
@@ -15,10 +16,14 @@ pub struct BenchArgs {
 pub enum BenchCommand {
     /// Read and write a .vtu (appended raw and zlib): time, throughput and peak memory.
     Io(io::IoArgs),
+    /// Read a legacy .vtk and write it back as binary 5.1 and 4.2: best times (VTK beside it:
+    /// scripts/bench_legacy.py).
+    Legacy(legacy::LegacyArgs),
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     match &args.which {
         BenchCommand::Io(a) => io::run(a),
+        BenchCommand::Legacy(a) => legacy::run(a),
     }
 }

@@ -8,6 +8,7 @@ use crate::{
     cell_type, with_numeric, ArrayData, Attribute, Attributes, DataArray, Encoding, FormatError,
     Grid, LegacyVersion, Result, WriteOptions,
 };
+use std::borrow::Cow;
 use std::io::{self, Write};
 
 fn io_err(e: io::Error) -> FormatError {
@@ -94,18 +95,19 @@ pub fn write(w: &mut dyn Write, grid: &Grid, opts: &WriteOptions) -> Result<()> 
     w.w.flush().map_err(io_err)
 }
 
-/// Offsets and connectivity as the file stores them: a polyhedron's entry is its face stream.
-struct Streams {
-    offsets: Vec<i64>,
-    conn: Vec<i64>,
+/// Offsets and connectivity as the file stores them: a polyhedron's entry is its face stream
+/// (borrowed from the grid when there are no polyhedra).
+struct Streams<'g> {
+    offsets: Cow<'g, [i64]>,
+    conn: Cow<'g, [i64]>,
 }
 
-fn cell_streams(grid: &Grid) -> Result<Streams> {
+fn cell_streams(grid: &Grid) -> Result<Streams<'_>> {
     let c = &grid.cells;
     if !c.types.contains(&cell_type::POLYHEDRON) {
         return Ok(Streams {
-            offsets: c.offsets.clone(),
-            conn: c.connectivity.clone(),
+            offsets: Cow::Borrowed(&c.offsets),
+            conn: Cow::Borrowed(&c.connectivity),
         });
     }
     let Some((faces, face_offsets)) = &c.polyhedron_faces else {
@@ -120,10 +122,8 @@ fn cell_streams(grid: &Grid) -> Result<Streams> {
             format!("{} entries for {} cells", face_offsets.len(), c.len()),
         ));
     }
-    let mut out = Streams {
-        offsets: vec![0],
-        conn: Vec::with_capacity(c.connectivity.len() + faces.len()),
-    };
+    let mut offsets = vec![0];
+    let mut conn = Vec::with_capacity(c.connectivity.len() + faces.len());
     let mut start = 0usize;
     for (i, &fo) in face_offsets.iter().enumerate() {
         if c.types[i] == cell_type::POLYHEDRON {
@@ -136,14 +136,17 @@ fn cell_streams(grid: &Grid) -> Result<Streams> {
                         format!("polyhedron cell {i} has face offset {fo}"),
                     )
                 })?;
-            out.conn.extend_from_slice(&faces[start..end]);
+            conn.extend_from_slice(&faces[start..end]);
             start = end;
         } else {
-            out.conn.extend_from_slice(c.cell(i));
+            conn.extend_from_slice(c.cell(i));
         }
-        out.offsets.push(out.conn.len() as i64);
+        offsets.push(conn.len() as i64);
     }
-    Ok(out)
+    Ok(Streams {
+        offsets: Cow::Owned(offsets),
+        conn: Cow::Owned(conn),
+    })
 }
 
 /// Names are whitespace-separated tokens in legacy files, so an empty one cannot be written.
