@@ -19,6 +19,7 @@ fn opts(strategy: Strategy, leaves: usize) -> PartitionOptions {
             candidates: 16,
             phi: 10.0,
             eps: 0.5,
+            balance_weight: 0.5,
         },
     }
 }
@@ -164,6 +165,7 @@ fn duplicate_points_give_identical_seam_vertices() {
             candidates: 16,
             phi: 10.0,
             eps: 1.0,
+            balance_weight: 0.5,
         },
     };
     let out = partition(&m, &opts).unwrap();

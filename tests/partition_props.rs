@@ -89,6 +89,7 @@ proptest! {
                 candidates: 7,
                 phi: 10.0,
                 eps,
+                balance_weight: 0.5,
             },
         };
         let out = partition(&mesh, &opts).unwrap();

@@ -16,7 +16,7 @@ use crate::partition::{
 pub enum StrategyArg {
     /// Li et al. 2012 as published: N candidates, beta <= PHI, alpha < EPS, best beta of x/y/z.
     Paper,
-    /// Smallest larger child over wider-gap and vertex-layer candidates (fewer cut tets).
+    /// Fewest tets + W * imbalance over wide-gap and vertex-layer candidates.
     Cost,
 }
 
@@ -49,6 +49,9 @@ pub struct PartitionArgs {
     /// EPS: the paper's balance threshold on alpha = |l - r| / ((l + r) / 2).
     #[arg(long, default_value_t = 0.2)]
     pub eps: f64,
+    /// W of the cost strategy: it minimizes tets after the cut + W * |l - r|.
+    #[arg(long, default_value_t = 0.5)]
+    pub balance_weight: f64,
     /// Also write one .vtu per leaf into DIR/<stem>/, named by DIR/<stem>.pvtu and DIR/<stem>.vtm.
     #[arg(long, value_name = "DIR")]
     pub pieces: Option<PathBuf>,
@@ -61,8 +64,11 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
     if args.candidates == 0 {
         bail!("--candidates must be at least 1");
     }
-    if args.phi.is_nan() || args.eps.is_nan() || args.phi < 0.0 || args.eps < 0.0 {
-        bail!("--phi and --eps must be non-negative numbers");
+    if [args.phi, args.eps, args.balance_weight]
+        .iter()
+        .any(|x| x.is_nan() || *x < 0.0)
+    {
+        bail!("--phi, --eps and --balance-weight must be non-negative numbers");
     }
     if matches!(args.leaves, Some(0)) {
         bail!("--leaves must be at least 1");
@@ -95,6 +101,7 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
             candidates: args.candidates,
             phi: args.phi,
             eps: args.eps,
+            balance_weight: args.balance_weight,
         },
     };
     let mut result = partition(&mesh, &opts).with_context(|| format!("partitioning {name}"))?;

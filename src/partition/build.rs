@@ -48,6 +48,7 @@ impl Default for PartitionOptions {
                 candidates: 16,
                 phi: 1.0,
                 eps: 0.2,
+                balance_weight: 0.5,
             },
         }
     }

@@ -22,7 +22,8 @@ use super::split::case_counts;
 pub enum Strategy {
     /// Li et al. 2012, section 2.3, as published.
     Paper,
-    /// Smallest larger child (growth and balance in one number), over more candidate planes.
+    /// Fewest tets after the cut plus W times the imbalance, over wide-gap and vertex-layer
+    /// candidates.
     Cost,
 }
 
@@ -36,6 +37,9 @@ pub struct SearchParams {
     pub phi: f64,
     /// EPS: largest accepted (exclusive) alpha = |l - r| / ((l + r) / 2) (paper strategy).
     pub eps: f64,
+    /// W of the cost strategy, which minimizes `l + r + W |l - r|`: tets after the cut plus W
+    /// times the imbalance (W = 1 is the smallest larger child; smaller W saves more tets).
+    pub balance_weight: f64,
 }
 
 /// One candidate plane and what cutting there would give.
@@ -340,8 +344,11 @@ pub fn choose_plane(
             .flatten()
             .filter(|c| two_sided(c) && c.beta(n) <= params.phi)
             .min_by(|a, b| {
-                let key = |c: &Candidate| (c.left.max(c.right), c.left + c.right);
-                key(a).cmp(&key(b))
+                let w = params.balance_weight;
+                let key = |c: &Candidate| {
+                    (c.left + c.right) as f64 + w * (c.left as f64 - c.right as f64).abs()
+                };
+                key(a).total_cmp(&key(b))
             }),
     }
 }
@@ -430,6 +437,7 @@ mod tests {
                 candidates: 16,
                 phi: 1.0,
                 eps: 0.2,
+                balance_weight: 0.5,
             };
             let c = choose_plane(&node, &m.tets, &m.points, &params).unwrap();
             // The long axis has the smallest cross-section.
