@@ -22,7 +22,7 @@ impl<'a> Records<'a> {
     }
 
     pub fn remaining(&self) -> usize {
-        self.bytes.len() - self.pos
+        self.bytes.len().saturating_sub(self.pos)
     }
 
     /// Fills `toks` with the next non-empty record's fields and returns its 1-based line number.
@@ -31,7 +31,8 @@ impl<'a> Records<'a> {
             let start = self.pos;
             let rest = &self.bytes[start..];
             let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
-            self.pos = start + len + 1;
+            // A last line without a newline ends at the end, not one past it.
+            self.pos = (start + len + 1).min(self.bytes.len());
             self.line += 1;
             let mut line = &rest[..len];
             if let Some(h) = line.iter().position(|&b| b == b'#') {
