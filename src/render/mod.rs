@@ -1,1 +1,16 @@
 //! Rendering: transfer functions, ray integration, projected tetrahedra and the ray-cast reference.
+
+// Negated comparisons are deliberate: they also catch NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod field;
+pub mod image;
+pub mod integrate;
+pub mod plot;
+pub mod prepare;
+pub mod pt;
+pub mod raycast;
+pub mod transfer;
+
+pub use image::Image;
+pub use integrate::Integration;

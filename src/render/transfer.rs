@@ -1,0 +1,441 @@
+//! Transfer functions: scalar -> (colour, extinction), from named colormaps or ParaView presets.
+//!
+//! The function is piecewise linear between `K` evenly spaced nodes over the scalar range and
+//! constant beyond it (ParaView clamps). Opacity has ParaView's "unit distance" meaning: a slab of
+//! thickness `unit_distance` with constant scalar `s` has opacity `a(s)`, so the extinction is
+//! `tau = -ln(1 - a) / unit_distance`. Extinction (not opacity) is what is linear between nodes,
+//! which makes the ray integral of a linear scalar segment exactly computable piece by piece.
+
+// Negated comparisons are deliberate: they also catch NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use anyhow::{anyhow, bail, Context, Result};
+use std::path::Path;
+
+/// Opacity never reaches 1 so that extinction stays finite (1e-6 of light passes a unit slab).
+const MAX_OPACITY: f64 = 1.0 - 1e-6;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct TransferFunction {
+    /// Scalar range the nodes span: node 0 at `range[0]`, node `K-1` at `range[1]`.
+    pub range: [f64; 2],
+    /// Colour at each node (RGB in [0, 1]).
+    pub rgb: Vec<[f64; 3]>,
+    /// Extinction per world unit at each node.
+    pub tau: Vec<f64>,
+}
+
+/// A colour control point list: `(x, [r, g, b])` with x relative in [0, 1] or absolute.
+type ColorPoints = Vec<(f64, [f64; 3])>;
+/// Opacity control points `(x, a)`.
+type OpacityPoints = Vec<(f64, f64)>;
+
+/// Where colours come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColorSource {
+    /// Evenly spaced colours over [0, 1].
+    Relative(ColorPoints),
+    /// A ParaView preset: points in the preset's own scalar units (rescaled onto the data range
+    /// as ParaView does when it applies a preset), with its opacity points when it has them.
+    Preset {
+        name: String,
+        colors: ColorPoints,
+        opacity: Option<OpacityPoints>,
+    },
+}
+
+/// Named colormaps: ParaView's default "Cool to Warm" (Moreland's diverging map, sampled) plus
+/// every `colorous` gradient by lower-case name with `-` or `_`.
+pub fn named_colormap(name: &str) -> Result<ColorSource> {
+    let key = name.to_ascii_lowercase().replace('_', "-");
+    if key == "cool-to-warm" || key == "coolwarm" {
+        // Moreland's diverging map sampled at 9 points (sRGB), so RGB interpolation stays close
+        // to ParaView's diverging interpolation.
+        let pts = [
+            [0.230, 0.299, 0.754],
+            [0.375, 0.486, 0.904],
+            [0.552, 0.690, 0.996],
+            [0.720, 0.831, 0.996],
+            [0.865, 0.865, 0.865],
+            [0.957, 0.769, 0.678],
+            [0.969, 0.605, 0.481],
+            [0.882, 0.373, 0.298],
+            [0.706, 0.016, 0.150],
+        ];
+        let n = pts.len() - 1;
+        return Ok(ColorSource::Relative(
+            pts.iter()
+                .enumerate()
+                .map(|(i, c)| (i as f64 / n as f64, *c))
+                .collect(),
+        ));
+    }
+    let g = match key.as_str() {
+        "viridis" => colorous::VIRIDIS,
+        "inferno" => colorous::INFERNO,
+        "magma" => colorous::MAGMA,
+        "plasma" => colorous::PLASMA,
+        "cividis" => colorous::CIVIDIS,
+        "turbo" => colorous::TURBO,
+        "warm" => colorous::WARM,
+        "cool" => colorous::COOL,
+        "cubehelix" => colorous::CUBEHELIX,
+        "spectral" => colorous::SPECTRAL,
+        "red-blue" | "rdbu" => colorous::RED_BLUE,
+        "rainbow" => colorous::RAINBOW,
+        "sinebow" => colorous::SINEBOW,
+        "greys" | "grays" => colorous::GREYS,
+        "blues" => colorous::BLUES,
+        "reds" => colorous::REDS,
+        "greens" => colorous::GREENS,
+        "oranges" => colorous::ORANGES,
+        "purples" => colorous::PURPLES,
+        "yellow-orange-red" | "ylorrd" => colorous::YELLOW_ORANGE_RED,
+        _ => bail!(
+            "unknown colormap '{name}' (try viridis, cool-to-warm, inferno, magma, plasma, cividis, turbo, \
+             warm, cool, cubehelix, spectral, red-blue, rainbow, sinebow, greys, blues, reds, greens, \
+             oranges, purples, yellow-orange-red, or a ParaView preset .json)"
+        ),
+    };
+    let n = 64;
+    Ok(ColorSource::Relative(
+        (0..=n)
+            .map(|i| {
+                let c = g.eval_rational(i, n + 1);
+                (
+                    i as f64 / n as f64,
+                    [c.r, c.g, c.b].map(|v| v as f64 / 255.0),
+                )
+            })
+            .collect(),
+    ))
+}
+
+/// Reads a ParaView colormap preset (the JSON ParaView's "Export preset" writes: a list of
+/// objects with `RGBPoints` as x,r,g,b quadruples and optionally `Points` as x,a,mid,sharpness).
+/// Midpoint and sharpness other than 0.5/0 are not modelled: opacity is linear between points.
+pub fn read_preset(path: &Path) -> Result<ColorSource> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("{}: reading", path.display()))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        anyhow!(
+            "{}: line {} column {}: not JSON: {e}",
+            path.display(),
+            e.line(),
+            e.column()
+        )
+    })?;
+    let obj = match &v {
+        serde_json::Value::Array(a) => a
+            .iter()
+            .find(|o| o.get("RGBPoints").is_some())
+            .ok_or_else(|| anyhow!("{}: no preset with RGBPoints in the list", path.display()))?,
+        o => o,
+    };
+    let name = obj
+        .get("Name")
+        .and_then(|n| n.as_str())
+        .unwrap_or("preset")
+        .to_string();
+    let nums = |key: &str| -> Result<Option<Vec<f64>>> {
+        match obj.get(key) {
+            None => Ok(None),
+            Some(serde_json::Value::Array(a)) => a
+                .iter()
+                .enumerate()
+                .map(|(i, x)| {
+                    x.as_f64().filter(|f| f.is_finite()).ok_or_else(|| {
+                        anyhow!(
+                            "{}: {name}.{key}[{i}]: not a finite number: {x}",
+                            path.display()
+                        )
+                    })
+                })
+                .collect::<Result<Vec<f64>>>()
+                .map(Some),
+            Some(other) => bail!("{}: {name}.{key}: not an array: {other}", path.display()),
+        }
+    };
+    let rgb =
+        nums("RGBPoints")?.ok_or_else(|| anyhow!("{}: {name}: no RGBPoints", path.display()))?;
+    if rgb.len() < 4 || rgb.len() % 4 != 0 {
+        bail!(
+            "{}: {name}.RGBPoints: {} numbers, expected a positive multiple of 4 (x, r, g, b)",
+            path.display(),
+            rgb.len()
+        );
+    }
+    let colors: ColorPoints = rgb
+        .chunks(4)
+        .map(|c| (c[0], [c[1], c[2], c[3]].map(|v| v.clamp(0.0, 1.0))))
+        .collect();
+    check_increasing(colors.iter().map(|c| c.0), path, &name, "RGBPoints")?;
+    let opacity = match nums("Points")? {
+        None => None,
+        Some(p) => {
+            if p.len() < 4 || p.len() % 4 != 0 {
+                bail!(
+                    "{}: {name}.Points: {} numbers, expected a positive multiple of 4 (x, a, mid, sharp)",
+                    path.display(),
+                    p.len()
+                );
+            }
+            let pts: OpacityPoints = p.chunks(4).map(|c| (c[0], c[1].clamp(0.0, 1.0))).collect();
+            check_increasing(pts.iter().map(|c| c.0), path, &name, "Points")?;
+            Some(pts)
+        }
+    };
+    Ok(ColorSource::Preset {
+        name,
+        colors,
+        opacity,
+    })
+}
+
+fn check_increasing(
+    xs: impl Iterator<Item = f64>,
+    path: &Path,
+    name: &str,
+    key: &str,
+) -> Result<()> {
+    let mut prev = f64::NEG_INFINITY;
+    for (i, x) in xs.enumerate() {
+        if x < prev {
+            bail!(
+                "{}: {name}.{key}: point {i} at x = {x} is before the previous one ({prev})",
+                path.display()
+            );
+        }
+        prev = x;
+    }
+    Ok(())
+}
+
+/// Opacity as the user gives it: constant, or points relative to the scalar range.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OpacitySpec {
+    /// Points `(t, a)` with t in [0, 1] across the scalar range.
+    Points(OpacityPoints),
+}
+
+impl OpacitySpec {
+    /// Parses `0.3` (constant), `ramp` (0 -> 1), `ramp:A:B` (linear A -> B) or
+    /// `t:a,t:a,...` (points, t relative to the scalar range).
+    pub fn parse(s: &str) -> Result<OpacitySpec> {
+        let bad = |why: &str| anyhow!("--opacity '{s}': {why}");
+        let num = |t: &str| -> Result<f64> {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(&format!("'{t}' is not a finite number")))
+        };
+        if let Ok(v) = s.trim().parse::<f64>() {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(bad("opacity must be in [0, 1]"));
+            }
+            return Ok(OpacitySpec::Points(vec![(0.0, v), (1.0, v)]));
+        }
+        if let Some(rest) = s.strip_prefix("ramp") {
+            let (a, b) = if rest.is_empty() {
+                (0.0, 1.0)
+            } else {
+                let parts: Vec<&str> = rest.trim_start_matches(':').split(':').collect();
+                if parts.len() != 2 {
+                    return Err(bad("expected ramp or ramp:A:B"));
+                }
+                (num(parts[0])?, num(parts[1])?)
+            };
+            for v in [a, b] {
+                if !(0.0..=1.0).contains(&v) {
+                    return Err(bad("opacity must be in [0, 1]"));
+                }
+            }
+            return Ok(OpacitySpec::Points(vec![(0.0, a), (1.0, b)]));
+        }
+        let mut pts = Vec::new();
+        for part in s.split(',') {
+            let (t, a) = part
+                .split_once(':')
+                .ok_or_else(|| bad(&format!("'{part}' is not t:a")))?;
+            let (t, a) = (num(t)?, num(a)?);
+            if !(0.0..=1.0).contains(&a) {
+                return Err(bad("opacity must be in [0, 1]"));
+            }
+            if let Some(&(pt, _)) = pts.last() {
+                if t < pt {
+                    return Err(bad("points must be in increasing t"));
+                }
+            }
+            pts.push((t, a));
+        }
+        if pts.is_empty() {
+            return Err(bad("no points"));
+        }
+        Ok(OpacitySpec::Points(pts))
+    }
+}
+
+/// Linear interpolation in a sorted point list, clamped at both ends.
+fn lerp_points<const N: usize>(pts: &[(f64, [f64; N])], x: f64) -> [f64; N] {
+    if pts.is_empty() {
+        return [0.0; N];
+    }
+    if x <= pts[0].0 {
+        return pts[0].1;
+    }
+    let last = pts.len() - 1;
+    if x >= pts[last].0 {
+        return pts[last].1;
+    }
+    let i = pts.partition_point(|p| p.0 <= x).max(1) - 1;
+    let (x0, a) = pts[i];
+    let (x1, b) = pts[(i + 1).min(last)];
+    if x1 <= x0 {
+        return b;
+    }
+    let t = (x - x0) / (x1 - x0);
+    std::array::from_fn(|k| a[k] + t * (b[k] - a[k]))
+}
+
+impl TransferFunction {
+    /// Builds the function over `range` with `nodes` nodes. The user's opacity wins over a
+    /// preset's; without either, opacity ramps linearly from 0 to 1.
+    pub fn build(
+        colors: &ColorSource,
+        opacity: Option<&OpacitySpec>,
+        range: [f64; 2],
+        unit_distance: f64,
+        nodes: usize,
+    ) -> Result<TransferFunction> {
+        if !(range[0].is_finite() && range[1].is_finite() && range[0] <= range[1]) {
+            bail!("scalar range [{}, {}] is not valid", range[0], range[1]);
+        }
+        if !(unit_distance > 0.0 && unit_distance.is_finite()) {
+            bail!("unit distance {unit_distance} must be positive and finite");
+        }
+        let k = nodes.max(2);
+        // Relative position of node i in [0, 1].
+        let rel = |i: usize| i as f64 / (k - 1) as f64;
+        let (rgb, preset_opacity): (Vec<[f64; 3]>, Option<Vec<f64>>) = match colors {
+            ColorSource::Relative(pts) => {
+                ((0..k).map(|i| lerp_points(pts, rel(i))).collect(), None)
+            }
+            ColorSource::Preset {
+                colors, opacity, ..
+            } => {
+                // Rescale the preset's own x range onto [0, 1] (ParaView's "apply preset, rescale").
+                let (x0, x1) = (colors[0].0, colors[colors.len() - 1].0);
+                let span = if x1 > x0 { x1 - x0 } else { 1.0 };
+                let to_rel = |x: f64| (x - x0) / span;
+                let cp: ColorPoints = colors.iter().map(|(x, c)| (to_rel(*x), *c)).collect();
+                let op = opacity.as_ref().map(|o| {
+                    let p: Vec<(f64, [f64; 1])> =
+                        o.iter().map(|(x, a)| (to_rel(*x), [*a])).collect();
+                    (0..k).map(|i| lerp_points(&p, rel(i))[0]).collect()
+                });
+                ((0..k).map(|i| lerp_points(&cp, rel(i))).collect(), op)
+            }
+        };
+        let alpha: Vec<f64> = match (opacity, preset_opacity) {
+            (Some(OpacitySpec::Points(p)), _) => {
+                let p: Vec<(f64, [f64; 1])> = p.iter().map(|(t, a)| (*t, [*a])).collect();
+                (0..k).map(|i| lerp_points(&p, rel(i))[0]).collect()
+            }
+            (None, Some(a)) => a,
+            (None, None) => (0..k).map(rel).collect(),
+        };
+        let tau = alpha
+            .iter()
+            .map(|&a| -(1.0 - a.clamp(0.0, MAX_OPACITY)).ln() / unit_distance)
+            .collect();
+        Ok(TransferFunction { range, rgb, tau })
+    }
+
+    pub fn nodes(&self) -> usize {
+        self.tau.len()
+    }
+
+    /// Position of scalar `s` in node units, clamped to [0, K-1].
+    pub fn node_pos(&self, s: f64) -> f64 {
+        let k = (self.nodes() - 1) as f64;
+        let span = self.range[1] - self.range[0];
+        if !(span > 0.0) {
+            return if s < self.range[0] { 0.0 } else { k };
+        }
+        ((s - self.range[0]) / span * k).clamp(0.0, k)
+    }
+
+    /// Colour and extinction at node position `x` (linear between nodes).
+    pub fn at_pos(&self, x: f64) -> ([f64; 3], f64) {
+        let last = self.nodes() - 1;
+        let i = (x.floor().max(0.0) as usize).min(last);
+        if i == last {
+            return (self.rgb[last], self.tau[last]);
+        }
+        let t = x - i as f64;
+        let (a, b) = (self.rgb[i], self.rgb[i + 1]);
+        (
+            [0, 1, 2].map(|c| a[c] + t * (b[c] - a[c])),
+            self.tau[i] + t * (self.tau[i + 1] - self.tau[i]),
+        )
+    }
+
+    pub fn eval(&self, s: f64) -> ([f64; 3], f64) {
+        self.at_pos(self.node_pos(s))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn opacity_specs() {
+        assert_eq!(
+            OpacitySpec::parse("0.25").unwrap(),
+            OpacitySpec::Points(vec![(0.0, 0.25), (1.0, 0.25)])
+        );
+        assert_eq!(
+            OpacitySpec::parse("ramp:0.1:0.5").unwrap(),
+            OpacitySpec::Points(vec![(0.0, 0.1), (1.0, 0.5)])
+        );
+        assert!(OpacitySpec::parse("0:0,1").is_err());
+        assert!(OpacitySpec::parse("1.5").is_err());
+        assert!(OpacitySpec::parse("0.5:0.2,0.1:0.3").is_err());
+    }
+
+    #[test]
+    fn unit_distance_meaning() {
+        let c = named_colormap("viridis").unwrap();
+        let tf = TransferFunction::build(
+            &c,
+            Some(&OpacitySpec::parse("0.5").unwrap()),
+            [0.0, 1.0],
+            2.0,
+            16,
+        )
+        .unwrap();
+        // A slab of thickness 2 transmits 1 - 0.5.
+        let (_, tau) = tf.eval(0.3);
+        assert!(((-tau * 2.0).exp() - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn preset_rescales_and_reads_opacity() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("p.json");
+        std::fs::write(
+            &p,
+            r#"[{"Name":"t","RGBPoints":[10,0,0,0, 20,1,1,1],"Points":[10,0,0.5,0, 20,0.5,0.5,0]}]"#,
+        )
+        .unwrap();
+        let src = read_preset(&p).unwrap();
+        let tf = TransferFunction::build(&src, None, [0.0, 1.0], 1.0, 3).unwrap();
+        assert_eq!(tf.rgb[1], [0.5, 0.5, 0.5]);
+        assert!((tf.tau[2] - (2.0f64).ln()).abs() < 1e-12);
+        std::fs::write(&p, r#"{"RGBPoints":[0,1,0]}"#).unwrap();
+        let e = read_preset(&p).unwrap_err().to_string();
+        assert!(e.contains("multiple of 4"), "{e}");
+    }
+}
