@@ -349,12 +349,15 @@ fn tet_surface(p: &[[f64; 3]; 4], tb: &Aabb, s: &TriSurface) -> bool {
     }
     let mut ids = Vec::new();
     s.candidates(tb, &mut ids);
+    // Boxes first (cheap), then each surviving triangle once.
+    ids.retain(|&ti| {
+        let v = s.tris[ti as usize].map(|i| s.points[i as usize]);
+        !(0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
+    });
+    ids.sort_unstable();
+    ids.dedup();
     for &ti in &ids {
         let v = s.tris[ti as usize].map(|i| s.points[i as usize]);
-        if (0..3).any(|k| v.iter().all(|x| x[k] < tb.min[k]) || v.iter().all(|x| x[k] > tb.max[k]))
-        {
-            continue;
-        }
         if tet_triangle(p, &v) {
             return true;
         }
@@ -476,5 +479,103 @@ mod tests {
         ];
         assert!(!tet_surface(&edge, &Aabb::of_points(edge.iter()), &s));
         assert!(!tet_box(&edge, &[0.0; 3], &[1.0; 3]));
+    }
+}
+
+#[cfg(test)]
+mod proptests {
+    use super::*;
+    use crate::scene::shapes::Primitive;
+    use proptest::prelude::*;
+
+    fn pt() -> impl Strategy<Value = [f64; 3]> {
+        prop::array::uniform3(-1.0f64..1.0)
+    }
+
+    /// Points strictly inside the tet (positive barycentric weights from a fixed sequence).
+    fn interior(p: &[[f64; 3]; 4], n: usize) -> Vec<[f64; 3]> {
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        let mut r = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            0.01 + 0.98 * ((s >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        (0..n)
+            .map(|_| {
+                let w = [r(), r(), r(), r()];
+                let t: f64 = w.iter().sum();
+                [0, 1, 2].map(|k| (0..4).map(|i| w[i] / t * p[i][k]).sum())
+            })
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// A tet point strictly inside a body means the interiors overlap: the exact and the
+        /// float tests must never miss such a tet.
+        #[test]
+        fn no_overlap_is_missed(
+            a in pt(), b in pt(), c in pt(), d in pt(),
+            lo in pt(), ext in prop::array::uniform3(0.05f64..1.2),
+            r in 0.05f64..0.9, r1 in 0.0f64..0.9,
+        ) {
+            let p = [a, b, c, d];
+            prop_assume!(orient(&a, &b, &c, &d) != 0);
+            let hi = [0, 1, 2].map(|k| lo[k] + ext[k]);
+            let samples = interior(&p, 400);
+            let bodies = [
+                Primitive::Box { min: lo, max: hi },
+                Primitive::Sphere { center: lo, radius: r },
+                Primitive::Frustum { start: lo, end: hi, r0: r, r1 },
+            ];
+            for body in &bodies {
+                let strictly = |x: &[f64; 3]| match body {
+                    Primitive::Box { min, max } => (0..3).all(|k| min[k] < x[k] && x[k] < max[k]),
+                    Primitive::Sphere { center, radius } => {
+                        let v = sub(x, center);
+                        dot(&v, &v) < radius * radius * (1.0 - 1e-9)
+                    }
+                    Primitive::Frustum { start, end, r0, r1 } => {
+                        let ax = sub(end, start);
+                        let s = dot(&sub(x, start), &ax) / dot(&ax, &ax);
+                        let foot = [0, 1, 2].map(|k| start[k] + s * ax[k]);
+                        let v = sub(x, &foot);
+                        let rr = r0 + (r1 - r0) * s;
+                        s > 1e-6 && s < 1.0 - 1e-6 && dot(&v, &v) < rr * rr * (1.0 - 1e-6)
+                    }
+                };
+                let hit = match body {
+                    Primitive::Box { min, max } => tet_box(&p, min, max),
+                    Primitive::Sphere { center, radius } => tet_sphere(&p, center, *radius),
+                    Primitive::Frustum { start, end, r0, r1 } => tet_frustum(&p, start, end, *r0, *r1),
+                };
+                if samples.iter().any(strictly) {
+                    prop_assert!(hit, "{:?} missed tet {:?}", body, p);
+                }
+            }
+            // A point of a triangle strictly inside the tet: the triangle meets the open tet.
+            let tri = [lo, hi, [lo[0], hi[1], 0.5 * (lo[2] + hi[2])]];
+            let on_tri = (0..60).map(|i| {
+                let (u, v) = ((i % 7) as f64 / 7.0 + 0.05, (i / 7) as f64 / 9.0 + 0.03);
+                let (u, v) = if u + v < 0.98 { (u, v) } else { ((0.98 - v).max(0.01), v) };
+                [0, 1, 2].map(|k| tri[0][k] + u * (tri[1][k] - tri[0][k]) + v * (tri[2][k] - tri[0][k]))
+            });
+            let mut inside_tet = false;
+            for x in on_tri {
+                let s = orient(&a, &b, &c, &d);
+                if (0..4).all(|i| {
+                    let mut q = p;
+                    q[i] = x;
+                    orient(&q[0], &q[1], &q[2], &q[3]) == s
+                }) {
+                    inside_tet = true;
+                }
+            }
+            if inside_tet {
+                prop_assert!(tet_triangle(&p, &tri));
+            }
+        }
     }
 }

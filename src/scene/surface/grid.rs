@@ -10,6 +10,8 @@ pub struct TriGrid {
     n: [usize; 3],
     /// Triangle ids per cell, x fastest.
     cells: Vec<Vec<u32>>,
+    /// Triangle ids per (x, y) column, each once: what a ray along +z may cross.
+    columns: Vec<Vec<u32>>,
 }
 
 impl TriGrid {
@@ -30,10 +32,16 @@ impl TriGrid {
             cell,
             n,
             cells: vec![Vec::new(); n[0] * n[1] * n[2]],
+            columns: vec![Vec::new(); n[0] * n[1]],
         };
         for (i, t) in tris.iter().enumerate() {
             let b = Aabb::of_points(t.iter().map(|&v| &points[v as usize]));
             let (lo, hi) = g.range(&b);
+            for y in lo[1]..=hi[1] {
+                for x in lo[0]..=hi[0] {
+                    g.columns[x + n[0] * y].push(i as u32);
+                }
+            }
             for z in lo[2]..=hi[2] {
                 for y in lo[1]..=hi[1] {
                     for x in lo[0]..=hi[0] {
@@ -50,7 +58,8 @@ impl TriGrid {
         x + self.n[0] * (y + self.n[1] * z)
     }
 
-    /// Cells a box overlaps, widened by one cell each way against rounding at cell borders.
+    /// Cells a box overlaps, widened by a millionth of a cell against rounding at cell borders
+    /// (the same widening at insertion and at query keeps it conservative).
     fn range(&self, b: &Aabb) -> ([usize; 3], [usize; 3]) {
         let at = |k: usize, v: f64| {
             let f = ((v - self.min[k]) / self.cell[k]).floor();
@@ -60,12 +69,13 @@ impl TriGrid {
                 (f as usize).min(self.n[k] - 1)
             }
         };
-        let lo = [0, 1, 2].map(|k| at(k, b.min[k]).saturating_sub(1));
-        let hi = [0, 1, 2].map(|k| (at(k, b.max[k]) + 1).min(self.n[k] - 1));
+        let pad = |k: usize| 1e-6 * self.cell[k];
+        let lo = [0, 1, 2].map(|k| at(k, b.min[k] - pad(k)));
+        let hi = [0, 1, 2].map(|k| at(k, b.max[k] + pad(k)));
         (lo, hi)
     }
 
-    /// Triangles whose boxes may overlap `b`, each once, in increasing order.
+    /// Triangles whose boxes may overlap `b` (a triangle may come more than once).
     pub fn candidates(&self, b: &Aabb, out: &mut Vec<u32>) {
         out.clear();
         let (lo, hi) = self.range(b);
@@ -76,16 +86,22 @@ impl TriGrid {
                 }
             }
         }
-        out.sort_unstable();
-        out.dedup();
     }
 
-    /// Triangles that a ray from `p` along +z may cross.
-    pub fn column_up(&self, p: &[f64; 3], out: &mut Vec<u32>) {
-        let b = Aabb {
-            min: *p,
-            max: [p[0], p[1], self.min[2] + self.cell[2] * self.n[2] as f64],
-        };
-        self.candidates(&b, out);
+    /// Triangles that a ray from `p` along +z may cross, each once.
+    pub fn column(&self, p: &[f64; 3]) -> &[u32] {
+        let b = Aabb { min: *p, max: *p };
+        let (lo, hi) = self.range(&b);
+        if lo[0] != hi[0] || lo[1] != hi[1] {
+            // On a column border (within rounding): no single column is safe.
+            return &[];
+        }
+        &self.columns[lo[0] + self.n[0] * lo[1]]
+    }
+
+    /// Whether `p` lies on a column border, where [`TriGrid::column`] cannot answer.
+    pub fn on_column_border(&self, p: &[f64; 3]) -> bool {
+        let (lo, hi) = self.range(&Aabb { min: *p, max: *p });
+        lo[0] != hi[0] || lo[1] != hi[1]
     }
 }

@@ -233,14 +233,17 @@ impl TriSurface {
         if !self.bounds.contains(p) {
             return false;
         }
-        let mut ids = Vec::new();
-        self.grid.column_up(p, &mut ids);
         let mut v = Vec::new();
-        self.crossings_among(p, &[0.0, 0.0, 1.0], Some(&ids), &mut v);
+        let among = if self.grid.on_column_border(p) {
+            None
+        } else {
+            Some(self.grid.column(p))
+        };
+        self.crossings_among(p, &[0.0, 0.0, 1.0], among, &mut v);
         v.len() % 2 == 1
     }
 
-    /// Triangles whose boxes may overlap `b` (a superset; each once).
+    /// Triangles whose boxes may overlap `b` (a superset; a triangle may repeat).
     pub fn candidates(&self, b: &Aabb, out: &mut Vec<u32>) {
         self.grid.candidates(b, out)
     }
