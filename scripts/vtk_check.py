@@ -13,6 +13,7 @@ type (VTK XML names: Int8 .. Float64, String), components, component names, tupl
   crc32   zlib CRC-32 of the values' bytes in their own type, little endian (strings: UTF-8, each
           followed by a NUL), the same bytes `formats::ArrayData::native_bytes` gives;
   sum     for integer arrays the exact sum, as a decimal string (no overflow, no rounding);
+  VTK `bit` arrays are reported as UInt8 0/1 values (with "vtk_type": "bit"), as tetkit keeps them.
   fsum, fsum2  float64 sum and sum of squares of all values (non-finite values are skipped and
           counted in `nonfinite`), for a tolerance comparison where bits may legitimately differ.
 --volume adds `volume`: the sum of the signed volumes vtkCellSizeFilter gives for 3-D cells (VTK's
@@ -80,6 +81,19 @@ def array_summary(arr):
     name = arr.GetName() or ""
     ncomp = arr.GetNumberOfComponents()
     tid = arr.GetDataType()
+    if tid == vtk.VTK_BIT:
+        # tetkit keeps legacy `bit` arrays as UInt8 0/1 values; report them the same way.
+        values = np.array([arr.GetValue(i) for i in range(arr.GetNumberOfValues())], dtype="<u1")
+        out = {
+            "name": name,
+            "type": "UInt8",
+            "vtk_type": "bit",
+            "components": ncomp,
+            "component_names": [],
+            "tuples": arr.GetNumberOfTuples(),
+        }
+        out.update(numeric_summary(values, "UInt8"))
+        return out
     type_name = TYPE_NAMES.get(tid)
     if type_name is None:
         fail("array '%s' has VTK type %d (%s), which tetkit has no name for"

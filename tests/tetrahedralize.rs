@@ -1,0 +1,324 @@
+//! `convert --tetrahedralize` on real meshes (Gmsh, VTK): every child positive, the volume VTK
+//! measures on the input kept, the mesh still conforming, the data carried to every child.
+
+mod common;
+
+use common::*;
+use std::collections::{HashMap, HashSet};
+use std::path::Path;
+use tetkit::formats::{self, cell_type as ct, Grid};
+use tetkit::geom::{orient3d, tet_volume};
+use tetkit::mesh::tetrahedralize::{cells, tetrahedralize};
+
+/// Faces of 3-D cell `i` as point-id sets (a quadratic tet's face includes its mid-edge nodes).
+fn cell_faces(g: &Grid, i: usize) -> Vec<Vec<i64>> {
+    let ids = g.cells.cell(i);
+    let table = |faces: &[&[usize]]| -> Vec<Vec<i64>> {
+        faces
+            .iter()
+            .map(|f| f.iter().map(|&l| ids[l]).collect())
+            .collect()
+    };
+    match g.cells.types[i] {
+        ct::TETRA => table(&[&[0, 1, 2], &[0, 1, 3], &[1, 2, 3], &[0, 2, 3]]),
+        ct::QUADRATIC_TETRA => table(&[
+            &[0, 1, 2, 4, 5, 6],
+            &[0, 1, 3, 4, 8, 7],
+            &[1, 2, 3, 5, 9, 8],
+            &[0, 2, 3, 6, 9, 7],
+        ]),
+        ct::HEXAHEDRON => table(&cells::HEX_FACES),
+        ct::VOXEL => {
+            let h = cells::VOXEL_TO_HEX.map(|l| ids[l]);
+            cells::HEX_FACES
+                .iter()
+                .map(|f| f.iter().map(|&l| h[l]).collect())
+                .collect()
+        }
+        ct::WEDGE => table(&cells::WEDGE_FACES),
+        ct::PYRAMID => table(&cells::PYRAMID_FACES),
+        ct::PENTAGONAL_PRISM | ct::HEXAGONAL_PRISM => {
+            let n = ids.len() / 2;
+            cells::prism_faces(n)
+                .iter()
+                .map(|f| f.iter().map(|&l| ids[l]).collect())
+                .collect()
+        }
+        ct::TRIQUADRATIC_HEXAHEDRON => {
+            // The 9 nodes on each side of the 3 x 3 x 3 lattice.
+            let mut out = Vec::new();
+            for axis in 0..3 {
+                for side in [0u8, 2] {
+                    out.push(
+                        (0..27)
+                            .filter(|&l| cells::TQHEX_LATTICE[l][axis] == side)
+                            .map(|l| ids[l])
+                            .collect(),
+                    );
+                }
+            }
+            out
+        }
+        ct::POLYHEDRON => {
+            let (stream, ends) = g.cells.polyhedron_faces.as_ref().expect("face stream");
+            let start = ends[..i]
+                .iter()
+                .rev()
+                .find(|&&e| e >= 0)
+                .copied()
+                .unwrap_or(0) as usize;
+            let s = &stream[start..ends[i] as usize];
+            let mut out = Vec::new();
+            let mut k = 1;
+            for _ in 0..s[0] {
+                let n = s[k] as usize;
+                out.push(s[k + 1..k + 1 + n].to_vec());
+                k += 1 + n;
+            }
+            out
+        }
+        t => panic!("no face table for cell type {t}"),
+    }
+}
+
+/// Checks the tetrahedralized `out` against its input: only tets among 3-D cells, every one
+/// positive (exact), lower cells kept; with `conforming_input`, also each triangle in at most two
+/// tets, and no triangle used once inside a face the input shares between two cells (a crack).
+/// Returns the volume.
+fn check_tets(input: &Grid, out: &Grid, conforming_input: bool) -> f64 {
+    let pts = out.points_f64();
+    let mut faces: HashMap<[i64; 3], usize> = HashMap::new();
+    let mut volume = 0.0;
+    let mut lower = 0;
+    for c in 0..out.num_cells() {
+        let t = out.cells.types[c];
+        if ct::dimension(t) < 3 {
+            lower += 1;
+            continue;
+        }
+        assert_eq!(t, ct::TETRA, "cell {c} is a {}", ct::name(t));
+        let v = out.cells.cell(c);
+        let p = [0, 1, 2, 3].map(|k| pts[v[k] as usize]);
+        assert!(
+            orient3d(&p[0], &p[1], &p[2], &p[3]) < 0.0,
+            "tet {c} {v:?} is not positively oriented"
+        );
+        volume += tet_volume(&p[0], &p[1], &p[2], &p[3]);
+        for skip in 0..4 {
+            let mut f = [0i64; 3];
+            let mut n = 0;
+            for (k, &x) in v.iter().enumerate() {
+                if k != skip {
+                    f[n] = x;
+                    n += 1;
+                }
+            }
+            f.sort_unstable();
+            *faces.entry(f).or_default() += 1;
+        }
+    }
+    let input_lower = input
+        .cells
+        .types
+        .iter()
+        .filter(|&&t| ct::dimension(t) < 3)
+        .count();
+    assert_eq!(lower, input_lower, "2-D and lower cells must be kept");
+    if !conforming_input {
+        return volume;
+    }
+    if let Some((f, n)) = faces.iter().find(|(_, &n)| n > 2) {
+        panic!("triangle {f:?} belongs to {n} tets");
+    }
+    // Input faces shared by two cells, indexed by point.
+    let mut input_faces: HashMap<Vec<i64>, usize> = HashMap::new();
+    for c in 0..input.num_cells() {
+        if ct::dimension(input.cells.types[c]) == 3 {
+            for mut f in cell_faces(input, c) {
+                f.sort_unstable();
+                *input_faces.entry(f).or_default() += 1;
+            }
+        }
+    }
+    let mut by_point: HashMap<i64, Vec<HashSet<i64>>> = HashMap::new();
+    for (f, n) in &input_faces {
+        if *n == 2 {
+            let set: HashSet<i64> = f.iter().copied().collect();
+            for &p in f {
+                by_point.entry(p).or_default().push(set.clone());
+            }
+        }
+    }
+    for (f, n) in &faces {
+        if *n == 1 {
+            let inside = by_point
+                .get(&f[0])
+                .is_some_and(|sets| sets.iter().any(|s| f.iter().all(|p| s.contains(p))));
+            assert!(
+                !inside,
+                "triangle {f:?} is used by one tet but lies in a face two input cells share: a crack"
+            );
+        }
+    }
+    volume
+}
+
+fn convert_tetrahedralize(input: &Path, dir: &Path) -> (Grid, Grid, String) {
+    let out = dir.join(format!(
+        "{}.tets.vtu",
+        input.file_stem().unwrap().to_string_lossy()
+    ));
+    let run = tetkit([
+        "convert".as_ref(),
+        input.as_os_str(),
+        out.as_os_str(),
+        "--tetrahedralize".as_ref(),
+    ]);
+    run.assert_success();
+    let grid_in = formats::read(input).unwrap();
+    let grid_out = formats::read(&out).unwrap();
+    (grid_in, grid_out, run.stderr)
+}
+
+/// Cell data of each child equals its parent's; point data of the old points is unchanged.
+fn check_data_carried(input: &Grid, out: &Grid) {
+    let orig = out
+        .cell_data
+        .get("original_cell_id")
+        .expect("original_cell_id");
+    assert_eq!(orig.data.type_name(), "Int64");
+    let parents: Vec<usize> = (0..out.num_cells())
+        .map(|c| orig.data.get_f64(c) as usize)
+        .collect();
+    for a in &input.cell_data.arrays {
+        let b = out.cell_data.get(&a.name).expect("cell array kept");
+        assert_eq!(b.data.type_name(), a.data.type_name());
+        assert_eq!(b.components, a.components);
+        assert!(
+            b.data.bit_eq(&a.data.gather(a.components, &parents)),
+            "cell array {} not copied to the children",
+            a.name
+        );
+    }
+    let np = input.num_points();
+    for a in &input.point_data.arrays {
+        let b = out.point_data.get(&a.name).expect("point array kept");
+        let idx: Vec<usize> = (0..np).collect();
+        assert!(b.data.gather(b.components, &idx).bit_eq(&a.data));
+    }
+    assert_eq!(out.field_data.len(), input.field_data.len());
+}
+
+fn check_fixture(rel: &str, split_types: &[&str]) {
+    let input = fixture(rel);
+    let dir = tempdir();
+    let (g_in, g_out, stderr) = convert_tetrahedralize(&input, dir.path());
+    for t in split_types {
+        assert!(
+            stderr.contains(&format!("{t} cells into tets")),
+            "{rel}: stderr does not report {t}:\n{stderr}"
+        );
+    }
+    let volume = check_tets(&g_in, &g_out, true);
+    check_data_carried(&g_in, &g_out);
+    if !require_vtk("tetrahedralize volume against VTK") {
+        return;
+    }
+    let out = dir.path().join(format!(
+        "{}.tets.vtu",
+        input.file_stem().unwrap().to_string_lossy()
+    ));
+    let v = vtk_check_many(&[input.clone(), out.clone()], true);
+    let vin = v[0].as_ref().unwrap();
+    let vout = v[1].as_ref().unwrap();
+    // VTK's cell volumes where it measures every cell (vtkCellSizeFilter gives triquadratic cells
+    // 0), and always the volume of VTK's own tetrahedralization of the input.
+    let expect = vin["tri_volume"].as_f64().unwrap();
+    assert!(
+        (volume - expect).abs() <= 1e-9 * expect,
+        "{rel}: tets have volume {volume}, VTK's tetrahedralization of the input {expect}"
+    );
+    if vin["min_cell_volume"].as_f64().unwrap() != 0.0 {
+        let cells = vin["abs_volume"].as_f64().unwrap();
+        assert!(
+            (volume - cells).abs() <= 1e-9 * cells,
+            "{rel}: tets have volume {volume}, VTK measures the input's cells at {cells}"
+        );
+    }
+    // VTK agrees on the output too, and finds no negative tet.
+    let vtk_out = vout["volume"].as_f64().unwrap();
+    assert!(
+        (vtk_out - expect).abs() <= 1e-9 * expect,
+        "{rel}: VTK on output {vtk_out}"
+    );
+    assert!(vout["min_cell_volume"].as_f64().unwrap() > 0.0);
+    compare_with_vtk(&g_out, vout).unwrap();
+}
+
+#[test]
+fn mixed_cells() {
+    check_fixture(
+        "mixed/mixed.vtu",
+        &["hexahedron", "voxel", "wedge", "pyramid", "polyhedron"],
+    );
+}
+
+#[test]
+fn prisms_and_triquadratic_hexahedra() {
+    check_fixture(
+        "mixed/prisms.vtu",
+        &[
+            "pentagonal_prism",
+            "hexagonal_prism",
+            "triquadratic_hexahedron",
+        ],
+    );
+}
+
+#[test]
+fn quadratic_tets() {
+    check_fixture("mixed/quadratic_tets.vtu", &["quadratic_tetra"]);
+}
+
+#[test]
+fn gmsh_extruded_hexes_and_wedges() {
+    check_fixture("gmsh/extruded.vtk", &["hexahedron", "wedge"]);
+}
+
+#[test]
+fn gmsh_tet_meshes_pass_through() {
+    for rel in ["gmsh/block_hole.vtk", "gmsh/lshape.vtk", "gmsh/cavity.vtk"] {
+        check_fixture(rel, &[]);
+    }
+}
+
+/// The library call later stages use: lower cells dropped and counted, only tets remain.
+#[test]
+fn tets_only_drops_boundary_cells() {
+    let g = formats::read(&fixture("gmsh/block_hole.vtk")).unwrap();
+    let lower = g
+        .cells
+        .types
+        .iter()
+        .filter(|&&t| ct::dimension(t) < 3)
+        .count();
+    assert!(lower > 0, "Gmsh writes boundary triangles");
+    let (t, report) = tetrahedralize(&g, false).unwrap();
+    assert_eq!(report.dropped, lower);
+    assert!(t.cells.types.iter().all(|&x| x == ct::TETRA));
+    assert_eq!(report.tets_out, t.num_cells());
+    tetkit::mesh::TetMesh::from_grid(&t).unwrap();
+}
+
+/// Every fixture can be tetrahedralized into positive tets with its data carried (no VTK
+/// needed). Not every fixture is a conforming mesh (some hold cells side by side for the
+/// readers' sake), so conformity is checked on the meshes above.
+#[test]
+fn every_fixture_tetrahedralizes() {
+    for f in fixture_meshes() {
+        let g = formats::read(&f).unwrap_or_else(|e| panic!("{e}"));
+        let (t, _) = tetrahedralize(&g, true).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        check_tets(&g, &t, false);
+        check_data_carried(&g, &t);
+    }
+}
