@@ -63,7 +63,9 @@ fn bench(c: &mut Criterion) {
     });
     let topo = Topology::build(&m.tets);
     let rc = RayCaster::new(&m.points, &m.tets, &field, &topo, GridParams::default());
-    g.bench_function("raycast_frame", |b| b.iter(|| rc.render(&tf, &cam, 512, 512)));
+    g.bench_function("raycast_frame", |b| {
+        b.iter(|| rc.render(&tf, &cam, 512, 512))
+    });
     g.bench_function("grid_build_tets", |b| {
         b.iter(|| tetkit::locate::TetLocator::build(&m.points, &m.tets, GridParams::default()))
     });

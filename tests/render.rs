@@ -64,14 +64,24 @@ fn pt_image(
     mode: Integration,
 ) -> Image {
     let order = match method {
-        Some(me) => Sorter::new(m, None)
-            .unwrap()
-            .order(cam, me, Direction::FrontToBack)
-            .order,
+        Some(me) => {
+            Sorter::new(m, None)
+                .unwrap()
+                .order(cam, me, Direction::FrontToBack)
+                .order
+        }
         None => (0..m.tets.len() as u32).collect(),
     };
     let shader = prepare::shader(tf, mode, TableSize::default(), prepare::longest_edge(m));
-    pt::render(&View::new(cam, n, n), &m.points, &m.tets, f, &order, &shader).0
+    pt::render(
+        &View::new(cam, n, n),
+        &m.points,
+        &m.tets,
+        f,
+        &order,
+        &shader,
+    )
+    .0
 }
 
 fn view_of(m: &TetMesh, az: f64, el: f64, parallel: bool) -> Camera {
@@ -86,32 +96,122 @@ fn view_of(m: &TetMesh, az: f64, el: f64, parallel: bool) -> Camera {
     cam
 }
 
+/// The TetGen torus fixture: a real non-convex mesh whose far side hides behind its near side.
+fn torus() -> (TetMesh, Field) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/tetgen/torus.1.ele");
+    let grid = formats::read(std::path::Path::new(path)).unwrap();
+    let (m, _, _) = tetkit::partition::input::tets_of(&grid, "torus").unwrap();
+    let b = m.bounds();
+    let z: Vec<f64> = m
+        .points
+        .iter()
+        .map(|p| (p[2] - b.min[2]) / (b.max[2] - b.min[2]))
+        .collect();
+    (m, Field::Point(z))
+}
+
 /// Tolerances, stated: kd + preintegrated within RMSE 0.004 and max 0.06 of the reference
-/// (trilinear table interpolation and f32 setup; measured about 0.001 / 0.03).
+/// (trilinear table interpolation and f32 setup; measured about 0.001 / 0.03 on the U mesh and
+/// 2e-5 / 1e-4 on the torus). The centroid order is recorded against kd on the TetGen torus, where
+/// it composites hidden parts of the ring over near ones: in some view its worst pixel error must
+/// exceed kd's by 5x. Measured at 96x96: az 20 el 35 centroid max 0.0044 / RMSE 1.25e-4 against kd
+/// 0.00029 / 1.8e-5 (15x); az 110 el 50 0.00085 against 0.00037; the parallel az 60 el 15 view has
+/// one silhouette pixel off by 0.048 for every sort (kd and centroid alike).
 #[test]
 fn kd_preintegrated_matches_reference_and_centroid_is_worse_on_a_nonconvex_mesh() {
+    let n = 96;
     let m = u_mesh();
     let f = field(&m);
-    let tf = tf(&m);
-    let n = 96;
-    for (az, el, par) in [(90.0, 10.0, false), (75.0, -20.0, true), (200.0, 35.0, false)] {
+    let tf_u = tf(&m);
+    for (az, el, par) in [
+        (90.0, 10.0, false),
+        (75.0, -20.0, true),
+        (200.0, 35.0, false),
+    ] {
         let cam = view_of(&m, az, el, par);
-        let r = reference(&m, &f, &tf, &cam, n);
-        let kd = pt_image(&m, &f, &tf, &cam, n, Some(Method::Kd), Integration::Preintegrated);
+        let r = reference(&m, &f, &tf_u, &cam, n);
+        let kd = pt_image(
+            &m,
+            &f,
+            &tf_u,
+            &cam,
+            n,
+            Some(Method::Kd),
+            Integration::Preintegrated,
+        );
         let e_kd = kd.error_against(&r, BG);
-        let cen = pt_image(&m, &f, &tf, &cam, n, Some(Method::Centroid), Integration::Preintegrated);
-        let e_cen = cen.error_against(&r, BG);
-        let avg = pt_image(&m, &f, &tf, &cam, n, Some(Method::Kd), Integration::Average);
+        let avg = pt_image(
+            &m,
+            &f,
+            &tf_u,
+            &cam,
+            n,
+            Some(Method::Kd),
+            Integration::Average,
+        );
         let e_avg = avg.error_against(&r, BG);
         eprintln!(
-            "view az {az} el {el} parallel {par}: kd+pre RMSE {:.5} max {:.4}; centroid+pre RMSE {:.5} max {:.4}; kd+average RMSE {:.5}",
-            e_kd.rmse, e_kd.max, e_cen.rmse, e_cen.max, e_avg.rmse
+            "U mesh az {az} el {el} parallel {par}: kd+pre RMSE {:.5} max {:.4}; kd+average RMSE {:.5}",
+            e_kd.rmse, e_kd.max, e_avg.rmse
+        );
+        assert!(e_kd.rmse < 0.004 && e_kd.max < 0.06, "kd: {e_kd:?}");
+        assert!(!kd.has_nan());
+    }
+
+    let (m, f) = torus();
+    let tf_t = TransferFunction::build(
+        &named_colormap("viridis").unwrap(),
+        Some(&OpacitySpec::parse("0:0.1,1:0.6").unwrap()),
+        [0.0, 1.0],
+        prepare::default_unit_distance(&m),
+        64,
+    )
+    .unwrap();
+    let mut worst_ratio = 0.0f64;
+    for (az, el, par) in [
+        (20.0, 35.0, false),
+        (60.0, 15.0, true),
+        (110.0, 50.0, false),
+    ] {
+        let cam = view_of(&m, az, el, par);
+        let r = reference(&m, &f, &tf_t, &cam, n);
+        let kd = pt_image(
+            &m,
+            &f,
+            &tf_t,
+            &cam,
+            n,
+            Some(Method::Kd),
+            Integration::Preintegrated,
+        );
+        let e_kd = kd.error_against(&r, BG);
+        let cen = pt_image(
+            &m,
+            &f,
+            &tf_t,
+            &cam,
+            n,
+            Some(Method::Centroid),
+            Integration::Preintegrated,
+        );
+        let e_cen = cen.error_against(&r, BG);
+        eprintln!(
+            "torus az {az} el {el} parallel {par}: kd+pre RMSE {:.6} max {:.5}; centroid+pre RMSE {:.6} max {:.5}",
+            e_kd.rmse, e_kd.max, e_cen.rmse, e_cen.max
         );
         assert!(e_kd.rmse < 0.004 && e_kd.max < 0.06, "kd: {e_kd:?}");
         assert!(!kd.has_nan() && !cen.has_nan());
-        // The centroid order composites hidden arms over near ones somewhere on this mesh.
-        assert!(e_cen.max > 2.0 * e_kd.max, "centroid {e_cen:?} vs kd {e_kd:?}");
+        // Centroid is never better than kd beyond table noise.
+        assert!(
+            e_cen.rmse >= 0.9 * e_kd.rmse,
+            "centroid {e_cen:?} vs kd {e_kd:?}"
+        );
+        worst_ratio = worst_ratio.max(e_cen.max / e_kd.max.max(1e-9));
     }
+    assert!(
+        worst_ratio > 5.0,
+        "centroid's max error should exceed kd's by 5x in some view; best ratio {worst_ratio}"
+    );
 }
 
 #[test]
@@ -127,7 +227,15 @@ fn identical_images_under_any_thread_count() {
             .unwrap();
         pool.install(|| {
             (
-                pt_image(&m, &f, &tf, &cam, 80, Some(Method::Kd), Integration::Preintegrated),
+                pt_image(
+                    &m,
+                    &f,
+                    &tf,
+                    &cam,
+                    80,
+                    Some(Method::Kd),
+                    Integration::Preintegrated,
+                ),
                 reference(&m, &f, &tf, &cam, 40),
             )
         })
@@ -135,7 +243,10 @@ fn identical_images_under_any_thread_count() {
     let (a1, r1) = run(1);
     let (a2, r2) = run(2);
     assert!(a1.pixels == a2.pixels, "PT differs between 1 and 2 threads");
-    assert!(r1.pixels == r2.pixels, "ray cast differs between 1 and 2 threads");
+    assert!(
+        r1.pixels == r2.pixels,
+        "ray cast differs between 1 and 2 threads"
+    );
 }
 
 #[test]
@@ -159,7 +270,15 @@ fn eye_on_a_face_plane_and_edge_on_views_leave_no_holes() {
             ..Camera::default()
         };
         let r = reference(&m, &f, &tf, &cam, 64);
-        let img = pt_image(&m, &f, &tf, &cam, 64, Some(Method::Kd), Integration::Preintegrated);
+        let img = pt_image(
+            &m,
+            &f,
+            &tf,
+            &cam,
+            64,
+            Some(Method::Kd),
+            Integration::Preintegrated,
+        );
         assert!(!img.has_nan());
         for (a, b) in img.pixels.iter().zip(&r.pixels) {
             if b[3] > 0.01 {

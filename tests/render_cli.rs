@@ -34,16 +34,40 @@ fn render_pt_and_raycast_on_a_gmsh_mesh() {
     let mesh = fixture("gmsh/lshape.vtk");
     let pt = dir.path().join("pt.png");
     let (ok, _, err) = tetkit(&[
-        "render", &mesh, "-o", pt.to_str().unwrap(), "--size", "96x64", "--azimuth", "30",
-        "--elevation", "20", "--sort", "kd", "--integration", "preintegrated",
+        "render",
+        &mesh,
+        "-o",
+        pt.to_str().unwrap(),
+        "--size",
+        "96x64",
+        "--azimuth",
+        "30",
+        "--elevation",
+        "20",
+        "--sort",
+        "kd",
+        "--integration",
+        "preintegrated",
     ]);
     assert!(ok, "{err}");
     assert_eq!(png_size(&pt), (96, 64));
     assert!(err.contains("frame 0"), "{err}");
     let rc = dir.path().join("rc.png");
     let (ok, _, err) = tetkit(&[
-        "render", &mesh, "-o", rc.to_str().unwrap(), "--size", "48x48", "--method", "raycast",
-        "--parallel", "--colormap", "inferno", "--opacity", "0.4", "--quiet",
+        "render",
+        &mesh,
+        "-o",
+        rc.to_str().unwrap(),
+        "--size",
+        "48x48",
+        "--method",
+        "raycast",
+        "--parallel",
+        "--colormap",
+        "inferno",
+        "--opacity",
+        "0.4",
+        "--quiet",
     ]);
     assert!(ok, "{err}");
     assert!(err.is_empty(), "--quiet printed: {err}");
@@ -51,8 +75,19 @@ fn render_pt_and_raycast_on_a_gmsh_mesh() {
     // Orbit frames are numbered.
     let orbit = dir.path().join("o.png");
     let (ok, _, err) = tetkit(&[
-        "render", &mesh, "-o", orbit.to_str().unwrap(), "--size", "32x32", "--orbit", "2",
-        "--sort", "centroid", "--integration", "average", "--quiet",
+        "render",
+        &mesh,
+        "-o",
+        orbit.to_str().unwrap(),
+        "--size",
+        "32x32",
+        "--orbit",
+        "2",
+        "--sort",
+        "centroid",
+        "--integration",
+        "average",
+        "--quiet",
     ]);
     assert!(ok, "{err}");
     assert!(dir.path().join("o_0000.png").exists() && dir.path().join("o_0001.png").exists());
@@ -70,7 +105,14 @@ fn bad_options_fail_without_output() {
         vec!["--unit-distance", "-1"],
         vec!["--range", "1,0"],
     ] {
-        let mut args = vec!["render", mesh.as_str(), "-o", out.to_str().unwrap(), "--size", "16x16"];
+        let mut args = vec![
+            "render",
+            mesh.as_str(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "16x16",
+        ];
         args.extend(bad.iter().copied());
         let (ok, _, err) = tetkit(&args);
         assert!(!ok, "{bad:?} succeeded");
@@ -80,9 +122,17 @@ fn bad_options_fail_without_output() {
     let preset = dir.path().join("p.json");
     std::fs::write(&preset, "[{\"RGBPoints\": [0, 1, 0]}]").unwrap();
     let (ok, _, err) = tetkit(&[
-        "render", &mesh, "-o", out.to_str().unwrap(), "--colormap", preset.to_str().unwrap(),
+        "render",
+        &mesh,
+        "-o",
+        out.to_str().unwrap(),
+        "--colormap",
+        preset.to_str().unwrap(),
     ]);
-    assert!(!ok && err.contains("p.json") && err.contains("RGBPoints"), "{err}");
+    assert!(
+        !ok && err.contains("p.json") && err.contains("RGBPoints"),
+        "{err}"
+    );
     assert!(!out.exists());
 }
 
@@ -97,8 +147,13 @@ fn probe_interpolates_and_reports_outside_points() {
     let pts = dir.path().join("pts.txt");
     std::fs::write(&pts, "# x y z\n0.5 0.5 0.5\n2.9, 1.9, 0.1\n").unwrap();
     let (ok, out, err) = tetkit(&[
-        "probe", path.to_str().unwrap(), "--points", "1,1,1;9,9,9", "--points",
-        pts.to_str().unwrap(), "--grid-stats",
+        "probe",
+        path.to_str().unwrap(),
+        "--points",
+        "1,1,1;9,9,9",
+        "--points",
+        pts.to_str().unwrap(),
+        "--grid-stats",
     ]);
     assert!(ok, "{err}");
     assert!(err.contains("references"), "{err}");
@@ -106,11 +161,19 @@ fn probe_interpolates_and_reports_outside_points() {
     assert_eq!(lines.len(), 5, "{out}");
     assert!(lines[0].starts_with("x,y,z,tet,scalar"), "{}", lines[0]);
     let f = |p: [f64; 3]| (p[0] + 2.0 * p[1] + 3.0 * p[2]) / (3.0 + 4.0 + 6.0);
-    for (line, p) in [(lines[1], [1.0, 1.0, 1.0]), (lines[3], [0.5, 0.5, 0.5]), (lines[4], [2.9, 1.9, 0.1])] {
+    for (line, p) in [
+        (lines[1], [1.0, 1.0, 1.0]),
+        (lines[3], [0.5, 0.5, 0.5]),
+        (lines[4], [2.9, 1.9, 0.1]),
+    ] {
         let v: f64 = line.split(',').nth(4).unwrap().parse().unwrap();
         assert!((v - f(p)).abs() < 1e-12, "{line}");
     }
-    assert!(lines[2].starts_with("9,9,9,,"), "outside point: {}", lines[2]);
+    assert!(
+        lines[2].starts_with("9,9,9,,"),
+        "outside point: {}",
+        lines[2]
+    );
 }
 
 #[test]
@@ -118,11 +181,27 @@ fn tradeoff_writes_table_plot_and_images() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("t");
     let (ok, stdout, err) = tetkit(&[
-        "tradeoff", &fixture("gmsh/lshape.vtk"), "-o", out.to_str().unwrap(), "--size", "48x48",
-        "--azimuth", "40", "--elevation", "30", "--quiet",
+        "tradeoff",
+        &fixture("gmsh/lshape.vtk"),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "48x48",
+        "--azimuth",
+        "40",
+        "--elevation",
+        "30",
+        "--quiet",
     ]);
     assert!(ok, "{err}");
-    for f in ["tradeoff.png", "tradeoff.csv", "tradeoff.json", "reference.png", "pt_kd_preintegrated.png", "pt_none_average.png"] {
+    for f in [
+        "tradeoff.png",
+        "tradeoff.csv",
+        "tradeoff.json",
+        "reference.png",
+        "pt_kd_preintegrated.png",
+        "pt_none_average.png",
+    ] {
         assert!(out.join(f).exists(), "{f} missing");
     }
     let csv = std::fs::read_to_string(out.join("tradeoff.csv")).unwrap();
@@ -130,6 +209,9 @@ fn tradeoff_writes_table_plot_and_images() {
     assert_eq!(csv.lines().count(), 14, "{csv}");
     assert!(stdout.contains("| kd | preintegrated |"), "{stdout}");
     // kd is exact on this mesh: no ray-order violations.
-    let kd = csv.lines().find(|l| l.starts_with("kd,preintegrated")).unwrap();
+    let kd = csv
+        .lines()
+        .find(|l| l.starts_with("kd,preintegrated"))
+        .unwrap();
     assert_eq!(kd.split(',').nth(7), Some("0"), "{kd}");
 }

@@ -207,7 +207,8 @@ impl Session {
         let t0 = Instant::now();
         let grid = super::read_input(input)?;
         // Tets kept, other 3-D cells tetrahedralized, lower cells dropped (said on stderr).
-        let (mesh, _, notes) = crate::partition::input::tets_of(&grid, &input.display().to_string())?;
+        let (mesh, _, notes) =
+            crate::partition::input::tets_of(&grid, &input.display().to_string())?;
         if !look.quiet {
             for n in notes {
                 eprintln!("tetkit: {n}");
@@ -335,7 +336,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 let mut cam = cam0;
                 cam.azimuth(step * i as f64);
                 let t = Instant::now();
-                let (order, sort_s) = order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
+                let (order, sort_s) =
+                    order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
                 let (img, stats, times) = pt_frame(&session, &cam, w, h, &order, &shader);
                 let frame_s = t.elapsed().as_secs_f64();
                 img.write_png(&frame_path(&args.output, i, frames), look.background)?;

@@ -219,7 +219,8 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
             r.rmse,
             r.max_error,
             100.0 * r.share_off,
-            r.order_violations.map_or("-".to_string(), |v| v.to_string())
+            r.order_violations
+                .map_or("-".to_string(), |v| v.to_string())
         );
     }
     if !labelled && !look.quiet {

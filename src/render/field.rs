@@ -50,7 +50,9 @@ impl Field {
             let v: Option<Vec<f64>> = mesh.points.iter().map(f).collect();
             return match v {
                 Some(v) => Ok((format!("coord:{axis}"), Field::Point(v))),
-                None => bail!("--scalar coord:{axis}: expected coord:x, coord:y, coord:z or coord:r"),
+                None => {
+                    bail!("--scalar coord:{axis}: expected coord:x, coord:y, coord:z or coord:r")
+                }
             };
         }
         if let Some(n) = name {
@@ -91,7 +93,10 @@ impl Field {
             return Ok((a.name.clone(), Field::Cell(values(a)?)));
         }
         // Nothing to map: ParaView's "Solid Color", a constant field.
-        Ok(("(solid colour)".to_string(), Field::Point(vec![0.0; mesh.points.len()])))
+        Ok((
+            "(solid colour)".to_string(),
+            Field::Point(vec![0.0; mesh.points.len()]),
+        ))
     }
 
     /// Values at the four vertices of tet `t`.
