@@ -225,7 +225,7 @@ impl Session {
         let range = match &look.range {
             Some(r) => {
                 let v = parse_range(r)?;
-                if !(v[0] < v[1]) {
+                if v[0].partial_cmp(&v[1]) != Some(std::cmp::Ordering::Less) {
                     bail!("--range {r}: MIN must be below MAX");
                 }
                 v
