@@ -150,7 +150,20 @@ impl Camera {
     /// Ray through pixel coordinates `(px, py)` (origin at the top-left corner, y down; pixel
     /// centres at half-integers) of a `width x height` image: `(origin, unit direction)`.
     pub fn pixel_ray(&self, px: f64, py: f64, width: u32, height: u32) -> ([f64; 3], [f64; 3]) {
-        let (r, u, f) = self.frame();
+        self.pixel_ray_in_frame(&self.frame(), px, py, width, height)
+    }
+
+    /// [`Camera::pixel_ray`] with the camera frame (from [`Camera::frame`]) computed once by the
+    /// caller, for per-pixel loops.
+    pub fn pixel_ray_in_frame(
+        &self,
+        frame: &([f64; 3], [f64; 3], [f64; 3]),
+        px: f64,
+        py: f64,
+        width: u32,
+        height: u32,
+    ) -> ([f64; 3], [f64; 3]) {
+        let (r, u, f) = *frame;
         let aspect = width as f64 / height as f64;
         let sx = (2.0 * px / width as f64 - 1.0) * aspect;
         let sy = 1.0 - 2.0 * py / height as f64;

@@ -254,22 +254,8 @@ impl<'a> View<'a> {
     /// The ray through pixel coordinates `(px, py)`: bit for bit [`Camera::pixel_ray`], with
     /// the camera frame computed once.
     pub fn pixel_ray(&self, px: f64, py: f64) -> ([f64; 3], [f64; 3]) {
-        let (r, u, f) = self.frame;
-        let cam = &self.camera;
-        let (width, height) = (self.width, self.height);
-        let aspect = width as f64 / height as f64;
-        let sx = (2.0 * px / width as f64 - 1.0) * aspect;
-        let sy = 1.0 - 2.0 * py / height as f64;
-        if cam.parallel {
-            let s = cam.parallel_scale;
-            let o = [0, 1, 2].map(|k| cam.position[k] + s * (sx * r[k] + sy * u[k]));
-            (o, f)
-        } else {
-            let t = (0.5 * cam.view_angle).to_radians().tan();
-            let d = [0, 1, 2].map(|k| f[k] + t * (sx * r[k] + sy * u[k]));
-            let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-            (cam.position, if n > 0.0 { d.map(|x| x / n) } else { d })
-        }
+        self.camera
+            .pixel_ray_in_frame(&self.frame, px, py, self.width, self.height)
     }
 
     /// Region codes along the ray through pixel coordinates `(px, py)`.

@@ -13,14 +13,14 @@ pub const LOOKUP_TABLE_PREFIX: &str = "lookup_table:";
 
 /// Reads a data type keyword.
 pub(crate) fn read_type(cur: &mut Cursor<'_>, what: &str) -> Result<LegacyType, FormatError> {
-    let (p, t) = cur.expect(&format!("the data type of {what}"))?;
+    let (p, t) = cur.require(&format!("the data type of {what}"))?;
     LegacyType::parse(&t)
         .ok_or_else(|| cur.err(p, format!("{what}: unknown data type '{}'", show(&t))))
 }
 
 /// Reads a (%-encoded) array name.
 pub(crate) fn read_name(cur: &mut Cursor<'_>, what: &str) -> Result<String, FormatError> {
-    let (_, t) = cur.expect(what)?;
+    let (_, t) = cur.require(what)?;
     Ok(names::decode(&t))
 }
 
@@ -106,7 +106,7 @@ pub(crate) fn read_field(cur: &mut Cursor<'_>) -> Result<Vec<DataArray>, FormatE
     let count = cur.expect_count("the number of FIELD arrays")?;
     let mut out = Vec::new();
     for _ in 0..count {
-        let (p, t) = cur.expect("a FIELD array name")?;
+        let (p, t) = cur.require("a FIELD array name")?;
         if is_kw(&t, "NULL_ARRAY") {
             continue;
         }
@@ -141,7 +141,7 @@ pub(crate) fn read_section(
             "SCALARS" => {
                 let name = read_name(cur, "the SCALARS name")?;
                 let ty = read_type(cur, &format!("SCALARS '{name}'"))?;
-                let (q, t2) = cur.expect("LOOKUP_TABLE or a component count")?;
+                let (q, t2) = cur.require("LOOKUP_TABLE or a component count")?;
                 let mut comps = 1;
                 let mut t2 = t2;
                 if !is_kw(&t2, "LOOKUP_TABLE") {
@@ -156,7 +156,7 @@ pub(crate) fn read_section(
                                 ),
                             )
                         })?;
-                    let (q2, t3) = cur.expect("LOOKUP_TABLE")?;
+                    let (q2, t3) = cur.require("LOOKUP_TABLE")?;
                     if !is_kw(&t3, "LOOKUP_TABLE") {
                         return Err(cur.err(
                             q2,
@@ -241,7 +241,7 @@ pub(crate) fn read_section(
             "EDGE_FLAGS" => (None, 1),
             "TEXTURE_COORDINATES" => {
                 let name = read_name(cur, "the TEXTURE_COORDINATES name")?;
-                let (q, t2) = cur.expect("the texture coordinate dimension")?;
+                let (q, t2) = cur.require("the texture coordinate dimension")?;
                 let dim = super::cursor::parse_count(&t2)
                     .filter(|d| (1..=3).contains(d))
                     .ok_or_else(|| {

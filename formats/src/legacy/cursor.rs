@@ -141,7 +141,7 @@ impl<'a> Cursor<'a> {
 
     /// The next token (copied: keywords, names and counts only), or an error saying what was
     /// expected.
-    pub fn expect(&mut self, what: &str) -> Result<(usize, Vec<u8>), FormatError> {
+    pub fn require(&mut self, what: &str) -> Result<(usize, Vec<u8>), FormatError> {
         match self.token() {
             Some((p, t)) => Ok((p, t.to_vec())),
             None => Err(self.err(self.pos, format!("unexpected end of file, expected {what}"))),
@@ -150,7 +150,7 @@ impl<'a> Cursor<'a> {
 
     /// The next token as a non-negative count that fits in memory terms (`usize`).
     pub fn expect_count(&mut self, what: &str) -> Result<usize, FormatError> {
-        let (p, t) = self.expect(what)?;
+        let (p, t) = self.require(what)?;
         match parse_count(&t) {
             Some(n) => Ok(n),
             None => {
@@ -405,17 +405,17 @@ mod tests {
             let len = text.len() + if short { 50 } else { 0 };
             let mut c = Cursor::from_reader(Box::new(Trickle(&text)), len);
             assert_eq!(c.line(), b"# head");
-            assert_eq!(c.expect("kw").unwrap().1, b"POINTS");
+            assert_eq!(c.require("kw").unwrap().1, b"POINTS");
             assert_eq!(c.expect_count("n").unwrap(), 123456);
             assert_eq!(c.peek().unwrap().1, b"float");
-            assert_eq!(c.expect("type").unwrap().1, b"float");
+            assert_eq!(c.require("type").unwrap().1, b"float");
             assert_eq!(c.line_at(c.pos), 2);
             c.begin_binary();
             assert_eq!(c.line(), b"xy");
             let mut block = vec![0u8; 200_000];
             c.read_into(&mut block, "block").unwrap();
             assert_eq!(block[1000], (1000 % 251) as u8);
-            assert_eq!(c.expect("kw").unwrap().1, b"CELL_TYPES");
+            assert_eq!(c.require("kw").unwrap().1, b"CELL_TYPES");
             assert_eq!(c.expect_count("n").unwrap(), 3);
             c.line();
             assert_eq!(c.line(), b"tail line");

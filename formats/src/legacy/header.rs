@@ -48,7 +48,7 @@ pub(crate) fn parse(cur: &mut Cursor<'_>) -> Result<Header, FormatError> {
         return Err(cur.err(cur.pos, "unexpected end of file: no title line"));
     }
     let title = String::from_utf8_lossy(cur.line()).into_owned();
-    let (p, t) = cur.expect("ASCII or BINARY on the third line")?;
+    let (p, t) = cur.require("ASCII or BINARY on the third line")?;
     let binary = if is_kw(&t, "ASCII") {
         false
     } else if is_kw(&t, "BINARY") {

@@ -60,7 +60,7 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     while let Some((p, t)) = cur.token().map(|(p, t)| (p, t.to_vec())) {
         let t = &t[..];
         if is_kw(t, "DATASET") {
-            let (q, kind) = cur.expect("the dataset type")?;
+            let (q, kind) = cur.require("the dataset type")?;
             if !is_kw(&kind, "UNSTRUCTURED_GRID") {
                 return Err(cur.err(
                     q,
@@ -247,7 +247,7 @@ fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
             let offsets = read_numeric(cur, ty, a, "OFFSETS")?;
             let offsets = to_i64(cur, q, "OFFSETS", offsets)?;
             read_metadata(cur, 1)?;
-            let (q, t) = cur.expect("CONNECTIVITY")?;
+            let (q, t) = cur.require("CONNECTIVITY")?;
             if !is_kw(&t, "CONNECTIVITY") {
                 return Err(cur.err(
                     q,

@@ -126,7 +126,7 @@ fn check_index(
 fn read_node(bytes: &[u8], path: &Path, grid: &mut Grid) -> Result<Nodes> {
     let mut r = Records::new(bytes, path);
     let mut t = Vec::new();
-    let line = r.expect(&mut t, "the .node header")?;
+    let line = r.require(&mut t, "the .node header")?;
     let n = r.count(&t, 0, line, "the number of points")?;
     let dim = if t.len() > 1 {
         r.count(&t, 1, line, "the dimension")?
@@ -167,7 +167,7 @@ fn read_node(bytes: &[u8], path: &Path, grid: &mut Grid) -> Result<Nodes> {
     let mut marks = Vec::with_capacity(capacity(n, &r, nmark));
     let mut first = 0;
     for i in 0..n {
-        let line = r.expect(&mut t, &format!("point {i} of {n}"))?;
+        let line = r.require(&mut t, &format!("point {i} of {n}"))?;
         check_index(&r, &t, line, i, &mut first, "point")?;
         if t.len() != fields {
             return Err(r.err(line, format!("a point line has {} fields, expected {fields} (number, x, y, z, {nattr} attributes, {nmark} markers)", t.len())));
@@ -237,7 +237,7 @@ fn node_ref(r: &Records<'_>, t: &[&[u8]], k: usize, line: usize, nodes: Nodes) -
 fn read_ele(bytes: &[u8], path: &Path, nodes: Nodes, grid: &mut Grid) -> Result<Eles> {
     let mut r = Records::new(bytes, path);
     let mut t = Vec::new();
-    let line = r.expect(&mut t, "the .ele header")?;
+    let line = r.require(&mut t, "the .ele header")?;
     let n = r.count(&t, 0, line, "the number of tetrahedra")?;
     let order = if t.len() > 1 {
         r.count(&t, 1, line, "the nodes per tetrahedron")?
@@ -270,7 +270,7 @@ fn read_ele(bytes: &[u8], path: &Path, nodes: Nodes, grid: &mut Grid) -> Result<
     let mut first = 0;
     let mut ids = [0i64; 10];
     for i in 0..n {
-        let line = r.expect(&mut t, &format!("tetrahedron {i} of {n}"))?;
+        let line = r.require(&mut t, &format!("tetrahedron {i} of {n}"))?;
         check_index(&r, &t, line, i, &mut first, "tetrahedron")?;
         if t.len() != fields {
             return Err(r.err(line, format!("a tetrahedron line has {} fields, expected {fields} (number, {order} nodes, {nattr} attributes)", t.len())));
@@ -326,7 +326,7 @@ fn read_ele(bytes: &[u8], path: &Path, nodes: Nodes, grid: &mut Grid) -> Result<
 fn read_face(bytes: &[u8], path: &Path, nodes: Nodes, ele: Eles, grid: &mut Grid) -> Result<()> {
     let mut r = Records::new(bytes, path);
     let mut t = Vec::new();
-    let line = r.expect(&mut t, "the .face header")?;
+    let line = r.require(&mut t, "the .face header")?;
     let n = r.count(&t, 0, line, "the number of faces")?;
     let nmark = if t.len() > 1 {
         r.count(&t, 1, line, "the boundary marker flag")?
@@ -345,7 +345,7 @@ fn read_face(bytes: &[u8], path: &Path, nodes: Nodes, ele: Eles, grid: &mut Grid
     let mut marks = Vec::with_capacity(capacity(n, &r, 1));
     let mut first = 0;
     for i in 0..n {
-        let line = r.expect(&mut t, &format!("face {i} of {n}"))?;
+        let line = r.require(&mut t, &format!("face {i} of {n}"))?;
         check_index(&r, &t, line, i, &mut first, "face")?;
         if t.len() != base && t.len() != base + 2 {
             return Err(r.err(line, format!("a face line has {} fields, expected {base} (number, {corners} nodes, {nmark} markers) or {} with adjacent tetrahedra", t.len(), base + 2)));
@@ -404,7 +404,7 @@ fn read_face(bytes: &[u8], path: &Path, nodes: Nodes, ele: Eles, grid: &mut Grid
 fn read_neigh(bytes: &[u8], path: &Path, ele: Eles, grid: &mut Grid) -> Result<()> {
     let mut r = Records::new(bytes, path);
     let mut t = Vec::new();
-    let line = r.expect(&mut t, "the .neigh header")?;
+    let line = r.require(&mut t, "the .neigh header")?;
     let n = r.count(&t, 0, line, "the number of tetrahedra")?;
     if n != ele.count {
         return Err(r.err(
@@ -418,7 +418,7 @@ fn read_neigh(bytes: &[u8], path: &Path, ele: Eles, grid: &mut Grid) -> Result<(
     let mut v = Vec::with_capacity(capacity(n, &r, 4));
     let mut first = 0;
     for i in 0..n {
-        let line = r.expect(&mut t, &format!("tetrahedron {i} of {n}"))?;
+        let line = r.require(&mut t, &format!("tetrahedron {i} of {n}"))?;
         check_index(&r, &t, line, i, &mut first, "tetrahedron")?;
         if t.len() != 5 {
             return Err(r.err(

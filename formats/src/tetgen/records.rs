@@ -51,7 +51,7 @@ impl<'a> Records<'a> {
     }
 
     /// The next record, or an error naming what was expected at the end of the file.
-    pub fn expect(&mut self, toks: &mut Vec<&'a [u8]>, what: &str) -> Result<usize, FormatError> {
+    pub fn require(&mut self, toks: &mut Vec<&'a [u8]>, what: &str) -> Result<usize, FormatError> {
         self.next_into(toks).ok_or_else(|| {
             FormatError::at_line(
                 self.line.max(1),
