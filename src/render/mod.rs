@@ -4,6 +4,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod field;
+pub mod gpu;
 pub mod image;
 pub mod integrate;
 pub mod plot;
