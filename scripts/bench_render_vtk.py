@@ -12,6 +12,13 @@ VTK, and times:
 Per-frame time is the median over frames after a 2-degree turn each (setup excluded: VTK's first
 render, tetkit's read/adjacency/table setup, which tetkit reports separately).
 
+Fairness: VTK's frame time includes its sort and a glFinish (WaitForCompletion), so no queued
+rasterization is left out; the ray caster's automatic image-sample-distance adjustment is off (it
+would render fewer rays); the window size is checked; and the coverage (share of non-background
+pixels) of each VTK image and of tetkit's last frame is printed, so a renderer that skipped part of
+the volume would show. The machine may be shared: every measurement is repeated --rounds times,
+VTK and tetkit interleaved, and the fastest round's median is kept (contention only adds time).
+
 VTK needs an X server here:  xvfb-run -a scripts/bench_render_vtk.py --tets 200000 1000000
 """
 import argparse
@@ -25,6 +32,7 @@ import tempfile
 import time
 
 import vtk
+from vtk.util.numpy_support import vtk_to_numpy
 
 COOL_TO_WARM = [
     [0.230, 0.299, 0.754], [0.375, 0.486, 0.904], [0.552, 0.690, 0.996],
@@ -61,11 +69,27 @@ def make_mesh(target_tets, path):
     return ug
 
 
+def coverage(img):
+    """Share of pixels of a vtkImageData whose RGB is not black."""
+    a = vtk_to_numpy(img.GetPointData().GetScalars())
+    return float((a[:, :3].max(axis=1) > 0).mean())
+
+
+def png_coverage(path):
+    r = vtk.vtkPNGReader()
+    r.SetFileName(path)
+    r.Update()
+    return coverage(r.GetOutput())
+
+
 def vtk_time(ug, kind, frames, size, unit_distance):
     if kind == "pt":
         mapper = vtk.vtkProjectedTetrahedraMapper()
     else:
         mapper = vtk.vtkUnstructuredGridVolumeRayCastMapper()
+        # One ray per pixel, whatever the frame time (the default may render fewer rays).
+        mapper.SetAutoAdjustSampleDistances(0)
+        mapper.SetImageSampleDistance(1.0)
     mapper.SetInputData(ug)
     ctf = vtk.vtkColorTransferFunction()
     for i, c in enumerate(COOL_TO_WARM):
@@ -95,15 +119,24 @@ def vtk_time(ug, kind, frames, size, unit_distance):
     ren.ResetCameraClippingRange()
     t0 = time.perf_counter()
     win.Render()
+    win.WaitForCompletion()
     first = time.perf_counter() - t0
+    if tuple(win.GetSize()) != (size, size):
+        sys.exit(f"VTK window is {win.GetSize()}, not {size}x{size}")
     times = []
     for _ in range(frames):
         cam.Azimuth(2)
         ren.ResetCameraClippingRange()
         t0 = time.perf_counter()
         win.Render()
+        win.WaitForCompletion()
         times.append(time.perf_counter() - t0)
-    return first, statistics.median(times)
+    grab = vtk.vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.ShouldRerenderOff()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    return first, statistics.median(times), coverage(grab.GetOutput())
 
 
 FRAME = re.compile(r"^frame (\d+): ([0-9.]+) s")
@@ -121,7 +154,8 @@ def tetkit_time(exe, mesh, out_png, frames, size, unit_distance, extra):
     times = [float(m.group(2)) for m in map(FRAME.match, p.stderr.splitlines()) if m]
     setup = [float(m.group(1)) for m in map(SETUP.search, p.stderr.splitlines()) if m]
     # Frame 0 is the first view; the turned frames after it are what an orbit costs.
-    return (setup[0] if setup else float("nan")), statistics.median(times[1:] or times)
+    last = out_png[:-4] + f"_{frames:04d}.png"
+    return (setup[0] if setup else float("nan")), statistics.median(times[1:] or times), png_coverage(last)
 
 
 def main():
@@ -131,6 +165,7 @@ def main():
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--tetkit", default=os.path.join(os.path.dirname(__file__), "..", "target", "release", "tetkit"))
     ap.add_argument("--no-vtk-raycast", action="store_true", help="skip VTK's (slow) ray caster")
+    ap.add_argument("--rounds", type=int, default=2, help="repeat each measurement, keep the fastest")
     ap.add_argument("--json", help="also write the results here")
     args = ap.parse_args()
     rows = []
@@ -141,27 +176,39 @@ def main():
             ntets = ug.GetNumberOfCells()
             # A fifth of the bounding-box diagonal, tetkit's default.
             ud = (3 ** 0.5) / 5.0
-            row = {"tets": ntets, "vtk_version": vtk.vtkVersion.GetVTKVersion()}
-            row["vtk_pt_first"], row["vtk_pt"] = vtk_time(ug, "pt", args.frames, args.size, ud)
-            if not args.no_vtk_raycast:
-                row["vtk_raycast_first"], row["vtk_raycast"] = vtk_time(ug, "raycast", max(1, args.frames - 1), args.size, ud)
+            row = {"tets": ntets, "vtk_version": vtk.vtkVersion.GetVTKVersion(), "load_before": os.getloadavg()[0]}
             png = os.path.join(tmp, "out.png")
-            row["tetkit_kd_pre_setup"], row["tetkit_kd_pre"] = tetkit_time(
-                args.tetkit, path, png, args.frames, args.size, ud, ["--sort", "kd", "--integration", "preintegrated"])
-            row["tetkit_centroid_avg_setup"], row["tetkit_centroid_avg"] = tetkit_time(
-                args.tetkit, path, png, args.frames, args.size, ud, ["--sort", "centroid", "--integration", "average"])
-            row["tetkit_raycast_setup"], row["tetkit_raycast"] = tetkit_time(
-                args.tetkit, path, png, max(1, args.frames - 1), args.size, ud, ["--method", "raycast"])
+            runs = {
+                "vtk_pt": lambda: vtk_time(ug, "pt", args.frames, args.size, ud),
+                "tetkit_kd_pre": lambda: tetkit_time(
+                    args.tetkit, path, png, args.frames, args.size, ud, ["--sort", "kd", "--integration", "preintegrated"]),
+                "tetkit_centroid_avg": lambda: tetkit_time(
+                    args.tetkit, path, png, args.frames, args.size, ud, ["--sort", "centroid", "--integration", "average"]),
+                "tetkit_raycast": lambda: tetkit_time(
+                    args.tetkit, path, png, max(1, args.frames - 1), args.size, ud, ["--method", "raycast"]),
+            }
+            if not args.no_vtk_raycast:
+                runs["vtk_raycast"] = lambda: vtk_time(ug, "raycast", max(1, args.frames - 1), args.size, ud)
+            for _ in range(max(1, args.rounds)):
+                for name, run in runs.items():
+                    first, per_frame, cov = run()
+                    if per_frame < row.get(name, float("inf")):
+                        key = "first" if name.startswith("vtk") else "setup"
+                        row[name], row[f"{name}_{key}"], row[f"{name}_coverage"] = per_frame, first, cov
+            row["load_after"] = os.getloadavg()[0]
             rows.append(row)
             print(json.dumps(row), flush=True)
     print()
-    print(f"| tets | VTK PT | VTK ray cast | tetkit kd+preintegrated | tetkit centroid+average | tetkit ray cast | exact PT speed-up vs VTK PT |")
-    print("| --- | --- | --- | --- | --- | --- | --- |")
+    print(f"load average (1 min) before/after each size: {[(r['load_before'], r['load_after']) for r in rows]}")
+    print(f"coverage (share of non-black pixels), VTK PT / tetkit kd+pre: {[(round(r['vtk_pt_coverage'], 3), round(r['tetkit_kd_pre_coverage'], 3)) for r in rows]}")
+    print(f"| tets | VTK PT | VTK ray cast | tetkit kd+preintegrated | tetkit centroid+average | tetkit ray cast | exact PT speed-up vs VTK PT | ray cast speed-up vs VTK |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for r in rows:
         vr = f"{r['vtk_raycast']:.3f} s" if "vtk_raycast" in r else "-"
+        rr = f"{r['vtk_raycast'] / r['tetkit_raycast']:.1f}x" if "vtk_raycast" in r else "-"
         print(f"| {r['tets']} | {r['vtk_pt']:.3f} s | {vr} | {r['tetkit_kd_pre']:.3f} s (setup {r['tetkit_kd_pre_setup']:.2f} s) | "
               f"{r['tetkit_centroid_avg']:.3f} s | {r['tetkit_raycast']:.3f} s (setup {r['tetkit_raycast_setup']:.2f} s) | "
-              f"{r['vtk_pt'] / r['tetkit_kd_pre']:.1f}x |")
+              f"{r['vtk_pt'] / r['tetkit_kd_pre']:.1f}x | {rr} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)

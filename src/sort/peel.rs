@@ -139,7 +139,8 @@ pub fn peel(g: &Graph, tets: &[u32], indeg: &[AtomicU32], layer: &[AtomicU32]) -
 }
 
 /// The remaining tets form a graph where every tet has a predecessor: find its strongly connected
-/// components (iterative Tarjan), and release the smallest tet id of every source component.
+/// components (iterative Tarjan), and release one tet of every source component: the one with the
+/// fewest predecessors left (so the fewest constraints are ignored), the smallest id on ties.
 fn break_cycles(
     g: &Graph,
     tets: &[u32],
@@ -174,11 +175,11 @@ fn break_cycles(
     let ncomp = comp.iter().map(|&c| c as usize + 1).max().unwrap_or(0);
     let mut size = vec![0usize; ncomp];
     let mut has_pred = vec![false; ncomp];
-    let mut min_id = vec![u32::MAX; ncomp];
+    let mut pick = vec![(u32::MAX, u32::MAX); ncomp];
     for i in 0..m {
         let c = comp[i] as usize;
         size[c] += 1;
-        min_id[c] = min_id[c].min(rest[i]);
+        pick[c] = pick[c].min((indeg[rest[i] as usize].load(Relaxed), rest[i]));
         for &j in &succ[succ_off[i] as usize..succ_off[i + 1] as usize] {
             if comp[j as usize] != comp[i] {
                 has_pred[comp[j as usize] as usize] = true;
@@ -194,7 +195,7 @@ fn break_cycles(
     let mut released = Vec::new();
     for c in 0..ncomp {
         if !has_pred[c] {
-            let t = min_id[c];
+            let t = pick[c].1;
             res.cycles += 1;
             res.broken_constraints += indeg[t as usize].load(Relaxed) as usize;
             indeg[t as usize].store(RELEASED, Relaxed);
