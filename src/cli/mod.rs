@@ -10,6 +10,7 @@ mod partition;
 mod probe;
 mod render;
 mod render_device;
+mod render_scene;
 mod sort;
 mod tradeoff;
 

@@ -65,15 +65,30 @@ pub struct GpuFrames<'a> {
     pub background: [f32; 3],
 }
 
+/// Scene bodies render on the CPU: `--device gpu` refuses them, `auto` says so.
+pub fn scene_on_cpu(device: DeviceChoice, bodies: usize) -> Result<()> {
+    match device {
+        DeviceChoice::Cpu => Ok(()),
+        DeviceChoice::Gpu => {
+            bail!("--device gpu: a scene with {bodies} bodies renders on the CPU only (--device cpu or auto)")
+        }
+        DeviceChoice::Auto => {
+            eprintln!("tetkit: --device auto: scene bodies render on the CPU");
+            Ok(())
+        }
+    }
+}
+
 /// Renders every frame on the GPU (the mesh stays resident; each frame uploads the camera and the
-/// order) and writes the PNGs; returns one summary line per frame.
+/// order) and writes the PNGs; returns one summary line per frame and the frame times.
 pub fn gpu_frames(
     gpu: &mut GpuRenderer,
     job: &GpuFrames,
     path: impl Fn(usize) -> std::path::PathBuf,
     mut each: impl FnMut(),
-) -> Result<Vec<String>> {
+) -> Result<(Vec<String>, Vec<f64>)> {
     let mut lines = vec![format!("GPU: {}", gpu.context().describe())];
+    let mut frame_times = Vec::new();
     for i in 0..job.frames {
         let mut cam = job.cam0;
         cam.azimuth(job.step * i as f64);
@@ -82,6 +97,7 @@ pub fn gpu_frames(
         let view = View::new(&cam, job.size.0, job.size.1);
         let (img, stats, times) = gpu.render(&view, &order)?;
         let frame_s = t.elapsed().as_secs_f64();
+        frame_times.push(frame_s);
         let out = path(i);
         write_png(&img, &out, job.background)?;
         lines.push(format!(
@@ -90,7 +106,7 @@ pub fn gpu_frames(
         ));
         each();
     }
-    Ok(lines)
+    Ok((lines, frame_times))
 }
 
 fn write_png(img: &crate::render::Image, out: &Path, bg: [f32; 3]) -> Result<()> {
