@@ -527,3 +527,37 @@ fn half_float_target_stays_close() {
         assert!(worst <= F16_TOL, "Rgba16Float camera {ci}: {worst}");
     }
 }
+
+#[test]
+fn without_an_adapter_auto_falls_back_and_gpu_fails() {
+    // No adapter: a backend this build does not include.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("gmsh/lshape.vtk");
+    let run = |device: &str, out: &Path| {
+        let o = Command::new(env!("CARGO_BIN_EXE_tetkit"))
+            .env("WGPU_BACKEND", "dx12")
+            .args(["render", &mesh, "-o", out.to_str().unwrap()])
+            .args(["--size", "32x32", "--device", device])
+            .output()
+            .expect("running tetkit");
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let auto = dir.path().join("auto.png");
+    let (ok, err) = run("auto", &auto);
+    assert!(ok, "{err}");
+    assert!(auto.exists());
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("--device auto"))
+        .collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(lines[0].contains("rendering on the CPU"), "{err}");
+    let gpu = dir.path().join("gpu.png");
+    let (ok, err) = run("gpu", &gpu);
+    assert!(!ok, "--device gpu without an adapter must fail");
+    assert!(err.contains("no GPU adapter"), "{err}");
+    assert!(!gpu.exists(), "no output file on failure");
+}
