@@ -604,4 +604,24 @@ fn cli_empty_scene_is_no_scene_and_bodies_report_their_codes() {
     assert!(!ok);
     assert!(err.contains("bad.toml") && err.contains("line 5"), "{err}");
     assert!(!out.exists());
+    // A body's transfer function that cannot be built names the body's line.
+    std::fs::write(
+        &bad,
+        "# a scene\n\n[[body]]\nshape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.3\naction = \"transfer\"\n[body.transfer]\ncolormap = \"no-such-map\"\n",
+    )
+    .unwrap();
+    let (ok, _, err) = tetkit_cli(&[
+        "render",
+        &mesh,
+        "--scene",
+        bad.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("bad.toml: line 3") && err.contains("no-such-map"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }
