@@ -171,9 +171,15 @@ fn bad_keywords_types_and_headers() {
         "ASCII or BINARY",
     );
     refused_at(
-        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\n",
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET STRUCTURED_POINTS\n",
         4,
-        "POLYDATA",
+        "STRUCTURED_POINTS",
+    );
+    // POLYDATA is read (surfaces of cutting bodies), but not with an unstructured grid's CELLS.
+    refused_at(
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n0 0 0\nCELLS 1 2\n1 0\n",
+        7,
+        "unknown keyword 'CELLS' in a POLYDATA",
     );
     refused_at(
         &format!("{ASCII51}POINTS 1 quaternion\n"),

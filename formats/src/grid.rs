@@ -622,6 +622,36 @@ pub mod cell_type {
     }
 }
 
+/// The four cell sections of VTK PolyData (XML `<Verts>`... or legacy `VERTICES`...), in the
+/// order VTK numbers their cells; a PolyData read as a [`Grid`] lists its cells in this order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PolySection {
+    Verts,
+    Lines,
+    Polys,
+    Strips,
+}
+
+impl PolySection {
+    pub const ALL: [PolySection; 4] = [Self::Verts, Self::Lines, Self::Polys, Self::Strips];
+
+    /// The cell type of a cell of `size` points in this section: a 1-point vert is a vertex, a
+    /// 2-point line a line, a 3-point poly a triangle and a 4-point one a quad; longer ones are
+    /// poly-vertices, poly-lines and polygons; a strip is a triangle strip.
+    pub fn cell_type(self, size: usize) -> u8 {
+        match (self, size) {
+            (Self::Verts, 1) => cell_type::VERTEX,
+            (Self::Verts, _) => cell_type::POLY_VERTEX,
+            (Self::Lines, 2) => cell_type::LINE,
+            (Self::Lines, _) => cell_type::POLY_LINE,
+            (Self::Polys, 3) => cell_type::TRIANGLE,
+            (Self::Polys, 4) => cell_type::QUAD,
+            (Self::Polys, _) => cell_type::POLYGON,
+            (Self::Strips, _) => cell_type::TRIANGLE_STRIP,
+        }
+    }
+}
+
 /// Cells as VTK 9 stores them: a type per cell, and each cell's point ids in `connectivity`
 /// between `offsets[i]` and `offsets[i + 1]`.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -13,7 +13,9 @@ pub mod tetgen;
 pub mod vtu;
 
 pub use error::{FormatError, Place, Result};
-pub use grid::{cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, Grid, ScalarType};
+pub use grid::{
+    cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, Grid, PolySection, ScalarType,
+};
 
 use std::io::Write;
 use std::path::Path;

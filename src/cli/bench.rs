@@ -1,6 +1,7 @@
 //! `tetkit bench`: benchmarks, one subcommand each (`bench io`, ...), each in its own file under
 //! `bench/`. Speed is measured here, never asserted in tests.
 
+mod common;
 mod io;
 mod legacy;
 

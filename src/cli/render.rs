@@ -10,6 +10,7 @@ use super::camera_args::CameraArgs;
 use crate::camera::Camera;
 use crate::locate::{GridParams, Topology};
 use crate::mesh::TetMesh;
+use crate::render::cut::BaseLook;
 use crate::render::field::Field;
 use crate::render::image::{parse_color, parse_size, Image};
 use crate::render::integrate::{Integration, PreintTable};
@@ -17,6 +18,7 @@ use crate::render::prepare::{self, TableSize};
 use crate::render::pt::{self, Shader, View};
 use crate::render::raycast::RayCaster;
 use crate::render::transfer::{named_colormap, read_preset, OpacitySpec, TransferFunction};
+use crate::scene::TransferSpec;
 use crate::sort::{Direction, Sorter};
 
 /// Which visibility order PT composites in.
@@ -76,9 +78,10 @@ pub struct LookArgs {
     /// scalars, else the first numeric array.
     #[arg(long, value_name = "NAME")]
     pub scalar: Option<String>,
-    /// Colormap name (cool-to-warm, viridis, inferno, ...) or a ParaView preset .json.
-    #[arg(long, default_value = "cool-to-warm", value_name = "NAME|preset.json")]
-    pub colormap: String,
+    /// Colormap name (cool-to-warm, viridis, inferno, ...) or a ParaView preset .json
+    /// (default: the scene's [transfer], else cool-to-warm).
+    #[arg(long, value_name = "NAME|preset.json")]
+    pub colormap: Option<String>,
     /// Opacity: a constant (0.3), `ramp`, `ramp:A:B`, or points `t:a,t:a,...` with t in [0, 1]
     /// across the scalar range. Default: the preset's opacity, else `ramp`.
     #[arg(long, value_name = "SPEC")]
@@ -159,6 +162,17 @@ pub struct RenderArgs {
     /// Degrees between orbit frames (default 360/N).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub orbit_step: Option<f64>,
+    /// Scene file (TOML): cutting bodies and per-region transfer functions, and optionally the
+    /// camera and default transfer function (command-line options override the scene's).
+    #[arg(long, value_name = "SCENE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Test every body at every pixel (no bounding-box culling), to measure what culling saves.
+    #[arg(long)]
+    pub no_culling: bool,
+    /// Print a JSON report on stdout: timings and, with a scene, the region codes before and
+    /// after merging.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// A progress bar on stderr that appears only once work has run for a second, and never with
@@ -215,6 +229,8 @@ pub struct Session {
     pub field_name: String,
     pub field: Field,
     pub tf: TransferFunction,
+    /// What `tf` was built from, for bodies' transfer functions to inherit.
+    pub base: BaseLook,
     pub lmax: f64,
     pub read_s: f64,
     pub schedule: pt::Schedule,
@@ -222,6 +238,16 @@ pub struct Session {
 
 impl Session {
     pub fn open(input: &Path, look: &LookArgs) -> Result<Session> {
+        Session::open_with(input, look, None)
+    }
+
+    /// [`Session::open`] with a scene's default transfer function filling what the command line
+    /// leaves unset.
+    pub fn open_with(
+        input: &Path,
+        look: &LookArgs,
+        scene_tf: Option<&TransferSpec>,
+    ) -> Result<Session> {
         let t0 = Instant::now();
         let grid = super::read_input(input)?;
         // Tets kept, other 3-D cells tetrahedralized, lower cells dropped (said on stderr).
@@ -248,30 +274,63 @@ impl Session {
                 }
                 v
             }
-            None => prepare::auto_range(&field),
+            None => match scene_tf.and_then(|t| t.range) {
+                Some(r) => r,
+                None => prepare::auto_range(&field),
+            },
         };
-        let colors = if look.colormap.to_ascii_lowercase().ends_with(".json") {
-            read_preset(Path::new(&look.colormap))?
-        } else {
-            named_colormap(&look.colormap)?
+        let colors = match (&look.colormap, scene_tf) {
+            (Some(c), _) if c.to_ascii_lowercase().ends_with(".json") => read_preset(Path::new(c))?,
+            (Some(c), _) => named_colormap(c)?,
+            (
+                None,
+                Some(TransferSpec {
+                    colormap: Some(c), ..
+                }),
+            ) => named_colormap(c)?,
+            (
+                None,
+                Some(TransferSpec {
+                    preset: Some(p), ..
+                }),
+            ) => read_preset(p)?,
+            (None, _) => named_colormap("cool-to-warm")?,
         };
-        let opacity = look
-            .opacity
-            .as_deref()
-            .map(OpacitySpec::parse)
-            .transpose()?;
+        let opacity = match (&look.opacity, scene_tf) {
+            (Some(o), _) => Some(OpacitySpec::parse(o)?),
+            (None, Some(t)) if !t.opacity.is_empty() => {
+                let span = range[1] - range[0];
+                Some(OpacitySpec::Points(
+                    t.opacity
+                        .iter()
+                        .map(|p| ((p[0] - range[0]) / span, p[1]))
+                        .collect(),
+                ))
+            }
+            (None, _) => None,
+        };
         let unit = match look.unit_distance {
             Some(d) if d > 0.0 && d.is_finite() => d,
             Some(d) => bail!("--unit-distance {d}: must be positive and finite"),
-            None => prepare::default_unit_distance(&mesh),
+            None => match scene_tf.and_then(|t| t.unit_distance) {
+                Some(d) => d,
+                None => prepare::default_unit_distance(&mesh),
+            },
         };
         let tf = TransferFunction::build(&colors, opacity.as_ref(), range, unit, look.tf_nodes)?;
+        let base = BaseLook {
+            colors,
+            range,
+            unit_distance: unit,
+            nodes: look.tf_nodes,
+        };
         let lmax = prepare::longest_edge(&mesh);
         Ok(Session {
             mesh,
             field_name,
             field,
             tf,
+            base,
             lmax,
             read_s: t0.elapsed().as_secs_f64(),
             schedule: look.pt_schedule,
@@ -310,7 +369,7 @@ pub fn order_for(
     (o.order, t0.elapsed().as_secs_f64())
 }
 
-fn frame_path(out: &Path, i: usize, n: usize) -> PathBuf {
+pub fn frame_path(out: &Path, i: usize, n: usize) -> PathBuf {
     if n <= 1 {
         return out.to_path_buf();
     }
@@ -336,9 +395,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--orbit-step must be finite");
     }
     let mut progress = Progress::new(look.quiet, 2 + frames as u64, "render");
-    let session = Session::open(&args.input, look)?;
+    let scene = match &args.scene {
+        Some(p) => Some(crate::scene::load(p)?),
+        None => None,
+    };
+    let session = Session::open_with(
+        &args.input,
+        look,
+        scene.as_ref().and_then(|s| s.transfer.as_ref()),
+    )?;
     progress.step("read");
-    let cam0 = session.bounds_camera(&args.camera)?;
+    let cam0 = match &scene {
+        Some(s) => session.bounds_camera(&super::render_scene::camera_args(&args.camera, s))?,
+        None => session.bounds_camera(&args.camera)?,
+    };
+    // Bodies take their own path; a scene without bodies renders exactly as no scene.
+    if let Some(s) = scene.as_ref().filter(|s| !s.bodies.is_empty()) {
+        return super::render_scene::run(args, &session, s, cam0, step, progress);
+    }
+    let mut frame_times = Vec::new();
     let (w, h) = look.size;
     let t_setup = Instant::now();
     let mut summary = Vec::new();
@@ -361,6 +436,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                     order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
                 let (img, stats, times) = pt_frame(&session, &cam, w, h, &order, &shader);
                 let frame_s = t.elapsed().as_secs_f64();
+                frame_times.push(frame_s);
                 img.write_png(&frame_path(&args.output, i, frames), look.background)?;
                 summary.push(format!(
                     "frame {i}: {frame_s:.3} s (sort {sort_s:.3}, project {:.3}, bin {:.3}, raster {:.3}); classes 1/2/3/4/flat {:?}, clipped {}, fragments {}",
@@ -425,6 +501,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                     ),
                 };
                 let frame_s = t.elapsed().as_secs_f64();
+                frame_times.push(frame_s);
                 img.write_png(&frame_path(&args.output, i, frames), look.background)?;
                 summary.push(format!(
                     "frame {i}: {frame_s:.3} s; segments {}, re-entries {}, lost walks {}",
@@ -439,6 +516,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         for line in summary {
             eprintln!("{line}");
         }
+    }
+    if args.json {
+        // No bodies: one region (code 0), nothing merged, the plain path.
+        let report = serde_json::json!({
+            "tets": session.mesh.tets.len(),
+            "bodies": 0,
+            "frame_s": frame_times,
+        });
+        println!("{}", serde_json::to_string_pretty(&report)?);
     }
     Ok(())
 }

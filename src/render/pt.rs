@@ -27,11 +27,11 @@ use rayon::prelude::*;
 /// Tile side in pixels.
 pub const TILE: usize = 32;
 /// Sub-pixel bits of the fixed-point rasterizer.
-const SUB: i64 = 256;
+pub(crate) const SUB: i64 = 256;
 /// Vertices farther than this from the image (in fixed point) are not rasterized.
 const GUARD: f64 = (1i64 << 28) as f64;
 /// A pixel whose opacity passed this takes no more fragments (error below 1/2048).
-const OPAQUE: f32 = 1.0 - 1.0 / 2048.0;
+pub(crate) const OPAQUE: f32 = 1.0 - 1.0 / 2048.0;
 
 /// The camera reduced to what projection needs.
 #[derive(Clone, Copy, Debug)]
@@ -212,11 +212,11 @@ impl Shader {
 
 /// An edge of the silhouette: inside where `a x + b y + c > 0`, or `== 0` when `own`.
 #[derive(Clone, Copy)]
-struct Edge {
-    a: i64,
-    b: i64,
-    c: i64,
-    bias: i64,
+pub(crate) struct Edge {
+    pub(crate) a: i64,
+    pub(crate) b: i64,
+    pub(crate) c: i64,
+    pub(crate) bias: i64,
 }
 
 impl Edge {
@@ -237,27 +237,27 @@ impl Edge {
 }
 
 /// Everything one tet needs per pixel, set up from its projected vertices.
-struct TetSetup {
-    edges: [Edge; 4],
-    nedges: usize,
+pub(crate) struct TetSetup {
+    pub(crate) edges: [Edge; 4],
+    pub(crate) nedges: usize,
     /// Pixel bounds, inclusive.
-    x0: i64,
-    x1: i64,
-    y0: i64,
-    y1: i64,
-    ox: f32,
-    oy: f32,
+    pub(crate) x0: i64,
+    pub(crate) x1: i64,
+    pub(crate) y0: i64,
+    pub(crate) y1: i64,
+    pub(crate) ox: f32,
+    pub(crate) oy: f32,
     /// Face depth planes relative to vertex 0: delta = c + ax dx + ay dy.
-    front: [[f32; 3]; 3],
-    nfront: usize,
-    back: [[f32; 3]; 3],
-    nback: usize,
-    w0: f32,
+    pub(crate) front: [[f32; 3]; 3],
+    pub(crate) nfront: usize,
+    pub(crate) back: [[f32; 3]; 3],
+    pub(crate) nback: usize,
+    pub(crate) w0: f32,
     /// Scalar at vertex 0's depth along the pixel's ray, and its change per unit of depth.
-    sref: [f32; 3],
-    h: [f32; 3],
-    smin: f32,
-    smax: f32,
+    pub(crate) sref: [f32; 3],
+    pub(crate) h: [f32; 3],
+    pub(crate) smin: f32,
+    pub(crate) smax: f32,
 }
 
 /// Counts of what the rasterizer saw, for reports.
@@ -305,7 +305,7 @@ fn plane_fit(p: [(f64, f64); 3], v: [f64; 3], ox: f64, oy: f64) -> Option<[f64; 
     (ax.is_finite() && ay.is_finite() && c.is_finite()).then_some([c, ax, ay])
 }
 
-fn setup_tet(
+pub(crate) fn setup_tet(
     view: &View,
     pv: [&Projected; 4],
     s: [f64; 4],
@@ -499,6 +499,23 @@ fn setup_tet(
 /// One fragment's (Sf, Sb, l) at pixel centre `(cx, cy)`.
 #[inline(always)]
 fn fragment(t: &TetSetup, parallel: bool, cx: f32, cy: f32, stretch: f32) -> (f32, f32, f32) {
+    let (zf, zb, sref, h) = fragment_span(t, parallel, cx, cy);
+    let l = ((zb - zf) * stretch).max(0.0);
+    let sf = (sref + zf * h).clamp(t.smin, t.smax);
+    let sb = (sref + zb * h).clamp(t.smin, t.smax);
+    (sf, sb, if l.is_finite() { l } else { 0.0 })
+}
+
+/// A fragment's entry and exit depths relative to vertex 0's depth, and its scalar as
+/// `sref + h * depth` (unclamped), at pixel centre `(cx, cy)`: what a scene splits at body
+/// crossings.
+#[inline(always)]
+pub(crate) fn fragment_span(
+    t: &TetSetup,
+    parallel: bool,
+    cx: f32,
+    cy: f32,
+) -> (f32, f32, f32, f32) {
     let (dx, dy) = (cx - t.ox, cy - t.oy);
     let ev = |p: &[f32; 3]| p[0] + p[1] * dx + p[2] * dy;
     let (zf, zb) = if parallel {
@@ -524,18 +541,13 @@ fn fragment(t: &TetSetup, parallel: bool, cx: f32, cy: f32, stretch: f32) -> (f3
         let w0 = t.w0;
         (-df / (w0 * (w0 + df)), -db / (w0 * (w0 + db)))
     };
-    let l = ((zb - zf) * stretch).max(0.0);
-    let sref = ev(&t.sref);
-    let h = ev(&t.h);
-    let sf = (sref + zf * h).clamp(t.smin, t.smax);
-    let sb = (sref + zb * h).clamp(t.smin, t.smax);
-    (sf, sb, if l.is_finite() { l } else { 0.0 })
+    (zf, zb, ev(&t.sref), ev(&t.h))
 }
 
 /// Rasterizes one tet into a tile buffer (front to back). Returns fragments drawn and how many
 /// pixels became opaque.
 #[inline(always)]
-fn raster<F: Fn(f32, f32, f32) -> [f32; 4]>(
+pub(crate) fn raster<F: Fn(f32, f32, f32) -> [f32; 4]>(
     t: &TetSetup,
     parallel: bool,
     tile: (i64, i64, i64, i64),

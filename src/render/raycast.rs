@@ -127,16 +127,20 @@ impl<'a> RayCaster<'a> {
         d: &[f64; 3],
         stats: &mut RayStats,
     ) -> [f64; 4] {
-        self.trace_with(&|a, b, l| exact_segment(tf, a, b, l), o, d, stats)
+        self.trace_with(o, d, stats, |tin, tout, sin, sout| {
+            exact_segment(tf, sin, sout, tout - tin)
+        })
     }
 
-    /// [`Self::trace`] with another integration of each segment `(sf, sb, length)`.
-    pub fn trace_with<F: Fn(f64, f64, f64) -> [f64; 4]>(
+    /// [`RayCaster::trace`] with each tet's segment `[tin, tout]` (scalar `sin` to `sout`,
+    /// linear in between) integrated by `seg` (premultiplied RGB, alpha): a scene splits it at
+    /// body crossings.
+    pub fn trace_with(
         &self,
-        segment: &F,
         o: &[f64; 3],
         d: &[f64; 3],
         stats: &mut RayStats,
+        mut seg: impl FnMut(f64, f64, f64, f64) -> [f64; 4],
     ) -> [f64; 4] {
         let mut color = [0.0f64; 3];
         let mut trans = 1.0f64;
@@ -182,7 +186,7 @@ impl<'a> RayCaster<'a> {
                     stats.lost += 1;
                     break;
                 };
-                let seg = segment(sin, sout, tout - tin);
+                let seg = seg(tin, tout, sin, sout);
                 stats.segments += 1;
                 for k in 0..3 {
                     color[k] += trans * seg[k];
@@ -223,6 +227,27 @@ impl<'a> RayCaster<'a> {
             .first_entry(self.points, self.tets, o, d, after, used)
     }
 
+    /// The ray the caster follows through pixel position `(px, py)`: the camera's, except that
+    /// parallel rays start behind the mesh's box so nothing in front of the camera is lost.
+    pub fn pixel_ray(
+        &self,
+        cam: &Camera,
+        px: f64,
+        py: f64,
+        width: u32,
+        height: u32,
+    ) -> ([f64; 3], [f64; 3]) {
+        let (mut o, d) = cam.pixel_ray(px, py, width, height);
+        if cam.parallel {
+            let b = self.entry.grid.bounds();
+            let c = b.center();
+            let r = 0.5 * dot(&b.extent(), &b.extent()).sqrt() + 1.0;
+            let tc = dot(&sub(&c, &o), &d) - 2.0 * r;
+            o = [0, 1, 2].map(|k| o[k] + tc * d[k]);
+        }
+        (o, d)
+    }
+
     /// Renders the camera's view (rows in parallel; each pixel is independent, so the image does
     /// not depend on the thread count).
     pub fn render(
@@ -245,23 +270,18 @@ impl<'a> RayCaster<'a> {
         height: u32,
     ) -> (Image, RayStats) {
         let w = width as usize;
-        // Parallel rays start behind the mesh's box so nothing in front of the camera is lost.
-        let b = self.entry.grid.bounds();
         let rows: Vec<(Vec<[f32; 4]>, RayStats)> = (0..height as usize)
             .into_par_iter()
             .map(|y| {
                 let mut st = RayStats::default();
                 let row = (0..w)
                     .map(|x| {
-                        let (mut o, d) =
-                            cam.pixel_ray(x as f64 + 0.5, y as f64 + 0.5, width, height);
-                        if cam.parallel {
-                            let c = b.center();
-                            let r = 0.5 * dot(&b.extent(), &b.extent()).sqrt() + 1.0;
-                            let tc = dot(&sub(&c, &o), &d) - 2.0 * r;
-                            o = [0, 1, 2].map(|k| o[k] + tc * d[k]);
-                        }
-                        self.trace_with(segment, &o, &d, &mut st).map(|v| v as f32)
+                        let (o, d) =
+                            self.pixel_ray(cam, x as f64 + 0.5, y as f64 + 0.5, width, height);
+                        self.trace_with(&o, &d, &mut st, |tin, tout, a, b| {
+                            segment(a, b, tout - tin)
+                        })
+                        .map(|v| v as f32)
                     })
                     .collect();
                 (row, st)

@@ -6,6 +6,7 @@
 pub mod adjacency;
 pub mod centroid;
 pub mod check;
+pub mod exact;
 pub mod nonconvex;
 pub mod peel;
 pub mod side;
@@ -56,6 +57,9 @@ pub struct SortStats {
     pub face_constraints: usize,
     /// Extra constraints between boundary faces of non-convex leaves.
     pub extra_constraints: usize,
+    /// Pairs of boundary faces that needed the big-integer test (reaching behind the eye, or
+    /// neither face's plane separating them).
+    pub exact_fallbacks: usize,
     pub nonconvex_leaves: usize,
     /// Visibility cycles (strongly connected components) broken.
     pub cycles: usize,
@@ -296,14 +300,17 @@ impl<'m> Sorter<'m> {
         };
         let leaf_of: Vec<u32> = if kd { self.leaf_of.clone() } else { vec![0; n] };
         // Dependencies adjacency misses: boundary faces of non-convex leaves overlapping on screen.
-        let mut extra: Vec<(u32, u32)> = if kd {
-            self.leaf_boundary
+        let (mut extra, exact_fallbacks): (Vec<(u32, u32)>, usize) = if kd {
+            let per_leaf: Vec<(Vec<(u32, u32)>, usize)> = self
+                .leaf_boundary
                 .par_iter()
                 .filter_map(|b| b.as_ref())
-                .flat_map_iter(|b| b.constraints(mesh, cam, ftb))
-                .collect()
+                .map(|b| b.constraints(mesh, cam, ftb))
+                .collect();
+            let fallbacks = per_leaf.iter().map(|x| x.1).sum();
+            (per_leaf.into_iter().flat_map(|x| x.0).collect(), fallbacks)
         } else {
-            Vec::new()
+            (Vec::new(), 0)
         };
         extra.par_sort_unstable();
         extra.dedup();
@@ -380,6 +387,7 @@ impl<'m> Sorter<'m> {
             leaves: leaves.len(),
             face_constraints,
             extra_constraints: extra.len(),
+            exact_fallbacks,
             nonconvex_leaves: if kd { self.nonconvex_leaves() } else { 0 },
             ..Default::default()
         };

@@ -1,16 +1,27 @@
 //! What adjacency misses in a non-convex leaf: a ray that leaves the leaf's tets through an exit
 //! face and re-enters through an entry face further on. Convex leaves are detected once and
 //! skipped; for the others each view adds "exit face's tet before entry face's tet" for every
-//! pair of boundary faces that overlap on screen with the exit face in front (as XMPVO does),
-//! decided with exact plane-side predicates.
+//! pair of boundary faces that some ray from the eye crosses in that order (as XMPVO does).
+//!
+//! Exactness: candidate pairs come from conservative screen boxes (float, enlarged by their
+//! rounding bound; faces reaching behind the eye get boxes open towards infinity); each pair is
+//! decided exactly: a float 2-D separation test counts only beyond its error bound, then
+//! orient3d separating planes and plane sides, and the rare rest by big-integer arithmetic
+//! (`exact::relation`). What an exact zero means: faces that only touch on screen (a shared edge
+//! or vertex, an edge-on face) constrain nothing; coplanar faces that overlap (tets touching
+//! without sharing a face) order the exit face's tet first, as the ray meets it first.
 
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 use super::adjacency::{sorted_face, Adjacency};
+use super::exact;
 use super::side::eye_side;
 use crate::camera::{Camera, Viewpoint};
-use crate::geom::{cross, dot, orient3d, sub};
+use crate::geom::{dot, orient3d, sub};
 use crate::mesh::TetMesh;
+
+const EPS: f64 = f64::EPSILON;
 
 /// The boundary faces of one leaf that is not convex, outward-oriented.
 pub struct LeafBoundary {
@@ -59,97 +70,60 @@ impl LeafBoundary {
         self.tri.is_empty()
     }
 
-    /// Extra precedence edges `(before, after)` for this view and drawing direction.
-    pub fn constraints(&self, mesh: &TetMesh, cam: &Camera, ftb: bool) -> Vec<(u32, u32)> {
+    /// Extra precedence edges `(before, after)` for this view and drawing direction, and how
+    /// many pairs needed the big-integer fallback.
+    pub fn constraints(&self, mesh: &TetMesh, cam: &Camera, ftb: bool) -> (Vec<(u32, u32)>, usize) {
         let view = cam.viewpoint();
         let pts = &mesh.points;
-        let nf = self.tri.len();
         let p = |v: u32| &pts[v as usize];
-        // +1: exit face (the eye is on the tet's side), -1: entry face, 0: edge-on.
+        // +1: exit face (the eye is on the tet's side), -1: entry face, 0: edge-on (no ray
+        // crosses its interior, so it constrains nothing).
         let kind: Vec<i8> = self
             .tri
             .par_iter()
             .map(|f| eye_side(&view, p(f[0]), p(f[1]), p(f[2])))
             .collect();
-        let (r, u, fw) = cam.frame();
-        let b = mesh.bounds().extent();
-        let near = 1e-9 * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt().max(1e-300);
-        // Projected faces. Perspective faces reaching behind the eye are clipped at a plane just
-        // in front of it (only forward rays make the image); faces entirely behind are dropped.
-        // `exact`: all three corners in front, so the exact projective overlap test applies.
-        let mut exact = vec![true; nf];
-        let shapes: Vec<Option<Vec<[f64; 2]>>> = self
+        let frame = cam.frame();
+        let proj: Vec<Option<Proj>> = self
             .tri
-            .iter()
-            .enumerate()
-            .map(|(k, f)| {
-                let q = [p(f[0]), p(f[1]), p(f[2])];
-                match view {
-                    Viewpoint::Direction(_) => {
-                        Some(q.iter().map(|x| [dot(x, &r), dot(x, &u)]).collect())
-                    }
-                    Viewpoint::Eye(e) => {
-                        let rel: Vec<[f64; 3]> = q.iter().map(|x| sub(x, &e)).collect();
-                        let z: Vec<f64> = rel.iter().map(|x| dot(x, &fw)).collect();
-                        let proj = |x: &[f64; 3], zz: f64| [dot(x, &r) / zz, dot(x, &u) / zz];
-                        if z.iter().all(|&zz| zz > near) {
-                            return Some((0..3).map(|i| proj(&rel[i], z[i])).collect());
-                        }
-                        exact[k] = false;
-                        let mut poly = Vec::with_capacity(4);
-                        for i in 0..3 {
-                            let j = (i + 1) % 3;
-                            if z[i] > near {
-                                poly.push(proj(&rel[i], z[i]));
-                            }
-                            if (z[i] > near) != (z[j] > near) {
-                                let t = (near - z[i]) / (z[j] - z[i]);
-                                let x = [0, 1, 2].map(|c| rel[i][c] + t * (rel[j][c] - rel[i][c]));
-                                poly.push(proj(&x, near));
-                            }
-                        }
-                        (poly.len() >= 3).then_some(poly)
-                    }
+            .par_iter()
+            .zip(kind.par_iter())
+            .map(|(f, &k)| {
+                if k == 0 {
+                    return None;
                 }
+                project(&view, &frame, [p(f[0]), p(f[1]), p(f[2])])
             })
             .collect();
-        let behind: Vec<bool> = shapes.iter().map(|s| s.is_none()).collect();
-        let exits: Vec<u32> = (0..nf as u32)
-            .filter(|&k| kind[k as usize] > 0 && !behind[k as usize])
+        let exits: Vec<u32> = (0..self.tri.len() as u32)
+            .filter(|&k| kind[k as usize] > 0 && proj[k as usize].is_some())
             .collect();
-        let entries: Vec<u32> = (0..nf as u32)
-            .filter(|&k| kind[k as usize] < 0 && !behind[k as usize])
+        let entries: Vec<u32> = (0..self.tri.len() as u32)
+            .filter(|&k| kind[k as usize] < 0 && proj[k as usize].is_some())
             .collect();
         if exits.is_empty() || entries.is_empty() {
-            return Vec::new();
+            return (Vec::new(), 0);
         }
-        let bbox = |s: &Vec<[f64; 2]>| -> [f64; 4] {
-            s.iter().fold(
-                [
-                    f64::INFINITY,
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::NEG_INFINITY,
-                ],
-                |b, q| {
-                    [
-                        b[0].min(q[0]),
-                        b[1].min(q[1]),
-                        b[2].max(q[0]),
-                        b[3].max(q[1]),
-                    ]
-                },
-            )
+        let bx = |k: u32| -> &[f64; 4] {
+            match &proj[k as usize] {
+                Some(q) => &q.bbox,
+                None => &EMPTY_BOX,
+            }
         };
-        let boxes: Vec<Option<[f64; 4]>> = shapes.iter().map(|s| s.as_ref().map(bbox)).collect();
-        // A grid over the bounded exit faces' boxes; perspective windows are clamped (far off-axis
-        // faces share the border cells, which keeps the candidate search conservative).
+        // A grid over the finite part of the boxes; perspective windows are clamped (far
+        // off-axis and unbounded boxes share the border cells, which keeps the search
+        // conservative).
         let mut lo = [f64::INFINITY; 2];
         let mut hi = [f64::NEG_INFINITY; 2];
         for &k in exits.iter().chain(entries.iter()) {
-            if let Some(b) = boxes[k as usize] {
-                lo = [lo[0].min(b[0]), lo[1].min(b[1])];
-                hi = [hi[0].max(b[2]), hi[1].max(b[3])];
+            let b = bx(k);
+            for (a, (x0, x1)) in [(b[0], b[2]), (b[1], b[3])].into_iter().enumerate() {
+                for x in [x0, x1] {
+                    if x.is_finite() {
+                        lo[a] = lo[a].min(x);
+                        hi[a] = hi[a].max(x);
+                    }
+                }
             }
         }
         if matches!(view, Viewpoint::Eye(_)) {
@@ -171,19 +145,25 @@ impl LeafBoundary {
             }
         };
         let range = |b: &[f64; 4]| (cell(b[0], 0), cell(b[2], 0), cell(b[1], 1), cell(b[3], 1));
+        // Boxes covering many cells (faces reaching behind the eye, or huge on screen) are kept
+        // out of the grid and tried against every face of the other kind instead.
+        let wide = |b: &[f64; 4]| {
+            let (x0, x1, y0, y1) = range(b);
+            (x1 - x0 + 1) * (y1 - y0 + 1) > 4 * g
+        };
         let mut count = vec![0u32; g * g + 1];
-        let mut unbounded_exits = Vec::new();
+        let mut wide_exits = Vec::new();
         for &k in &exits {
-            match &boxes[k as usize] {
-                Some(b) => {
-                    let (x0, x1, y0, y1) = range(b);
-                    for y in y0..=y1 {
-                        for x in x0..=x1 {
-                            count[y * g + x + 1] += 1;
-                        }
-                    }
+            let b = bx(k);
+            if wide(b) {
+                wide_exits.push(k);
+                continue;
+            }
+            let (x0, x1, y0, y1) = range(b);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    count[y * g + x + 1] += 1;
                 }
-                None => unbounded_exits.push(k),
             }
         }
         for i in 0..g * g {
@@ -192,83 +172,192 @@ impl LeafBoundary {
         let mut fill = count.clone();
         let mut bins = vec![0u32; count[g * g] as usize];
         for &k in &exits {
-            if let Some(b) = &boxes[k as usize] {
-                let (x0, x1, y0, y1) = range(b);
-                for y in y0..=y1 {
-                    for x in x0..=x1 {
-                        let s = &mut fill[y * g + x];
-                        bins[*s as usize] = k;
-                        *s += 1;
-                    }
+            let b = bx(k);
+            if wide(b) {
+                continue;
+            }
+            let (x0, x1, y0, y1) = range(b);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let s = &mut fill[y * g + x];
+                    bins[*s as usize] = k;
+                    *s += 1;
                 }
             }
         }
-        let tol = 1e-9 * span[0].max(span[1]).max(1e-300);
         let ctx = PairCtx {
             pts,
             tri: &self.tri,
             view,
-            cam,
-            shapes: &shapes,
-            exact: &exact,
-            tol,
+            proj: &proj,
+            exact_calls: AtomicUsize::new(0),
         };
+        let disjoint =
+            |a: &[f64; 4], b: &[f64; 4]| a[0] > b[2] || b[0] > a[2] || a[1] > b[3] || b[1] > a[3];
         let mut out: Vec<(u32, u32)> = entries
             .par_iter()
             .with_min_len(64)
             .flat_map_iter(|&gk| {
                 let mut found = Vec::new();
                 let gb = self.tet[gk as usize];
+                let b = bx(gk);
                 let mut consider = |fk: u32| {
                     let fa = self.tet[fk as usize];
-                    if fa != gb && ctx.exit_in_front(fk as usize, gk as usize) {
+                    if fa != gb
+                        && !disjoint(bx(fk), b)
+                        && ctx.exit_in_front(fk as usize, gk as usize)
+                    {
                         found.push(if ftb { (fa, gb) } else { (gb, fa) });
                     }
                 };
-                match &boxes[gk as usize] {
-                    Some(b) => {
-                        let (x0, x1, y0, y1) = range(b);
-                        for y in y0..=y1 {
-                            for x in x0..=x1 {
-                                let bin = y * g + x;
-                                for &fk in &bins[count[bin] as usize..count[bin + 1] as usize] {
-                                    let Some(fb) = &boxes[fk as usize] else {
-                                        continue;
-                                    };
-                                    if fb[0] > b[2] + tol
-                                        || b[0] > fb[2] + tol
-                                        || fb[1] > b[3] + tol
-                                        || b[1] > fb[3] + tol
-                                    {
-                                        continue;
-                                    }
-                                    // Test each pair once: in the cell holding the low corner of
-                                    // the boxes' overlap.
-                                    let cx = cell(fb[0].max(b[0]), 0);
-                                    let cy = cell(fb[1].max(b[1]), 1);
-                                    if (cx, cy) != (x, y) {
-                                        continue;
-                                    }
-                                    consider(fk);
-                                }
+                if wide(b) {
+                    for &fk in &exits {
+                        consider(fk);
+                    }
+                    return found;
+                }
+                let (x0, x1, y0, y1) = range(b);
+                for y in y0..=y1 {
+                    for x in x0..=x1 {
+                        let bin = y * g + x;
+                        for &fk in &bins[count[bin] as usize..count[bin + 1] as usize] {
+                            // Test each pair once: in the cell holding the low corner of the
+                            // boxes' overlap.
+                            let fb = bx(fk);
+                            if (cell(fb[0].max(b[0]), 0), cell(fb[1].max(b[1]), 1)) != (x, y) {
+                                continue;
                             }
-                        }
-                        for &fk in &unbounded_exits {
                             consider(fk);
                         }
                     }
-                    None => {
-                        for &fk in &exits {
-                            consider(fk);
-                        }
-                    }
+                }
+                for &fk in &wide_exits {
+                    consider(fk);
                 }
                 found
             })
             .collect();
         out.par_sort_unstable();
         out.dedup();
-        out
+        (out, ctx.exact_calls.into_inner())
+    }
+}
+
+const EMPTY_BOX: [f64; 4] = [
+    f64::INFINITY,
+    f64::INFINITY,
+    f64::NEG_INFINITY,
+    f64::NEG_INFINITY,
+];
+
+/// A face seen from the viewpoint, in the camera's screen coordinates (`x . r`, `x . u`, over
+/// the depth `x . f` for perspective).
+struct Proj {
+    /// A box holding the screen image of every forward ray through the face: the corners'
+    /// images grown by their rounding bound, open towards infinity on the sides where the face
+    /// reaches the eye's plane.
+    bbox: [f64; 4],
+    /// The corners' images and a bound on their absolute error, when every corner is surely in
+    /// front of the eye (always, for orthographic views): then the image is this triangle.
+    tri: Option<([[f64; 2]; 3], f64)>,
+}
+
+/// The screen image of one face, or `None` when it is surely behind the eye.
+fn project(
+    view: &Viewpoint,
+    frame: &([f64; 3], [f64; 3], [f64; 3]),
+    q: [&[f64; 3]; 3],
+) -> Option<Proj> {
+    let (r, u, fw) = frame;
+    let mut bbox = EMPTY_BOX;
+    let mut grow = |x: f64, y: f64, d: f64| {
+        bbox = [
+            bbox[0].min(x - d),
+            bbox[1].min(y - d),
+            bbox[2].max(x + d),
+            bbox[3].max(y + d),
+        ];
+    };
+    match view {
+        Viewpoint::Direction(_) => {
+            let c = q.map(|x| [dot(x, r), dot(x, u)]);
+            // Each dot product: a few roundings of terms no larger than |x|_1 (|r|, |u| ~ 1).
+            let d = q
+                .iter()
+                .map(|x| 8.0 * EPS * (x[0].abs() + x[1].abs() + x[2].abs()))
+                .fold(0.0, f64::max);
+            for s in &c {
+                grow(s[0], s[1], d);
+            }
+            Some(Proj {
+                bbox,
+                tri: Some((c, d)),
+            })
+        }
+        Viewpoint::Eye(e) => {
+            let rel = q.map(|x| sub(x, e));
+            // Lateral coordinates and depth, each with the same absolute error bound.
+            let lat = rel.map(|x| [dot(&x, r), dot(&x, u), dot(&x, fw)]);
+            let err = rel.map(|x| 8.0 * EPS * (x[0].abs() + x[1].abs() + x[2].abs()));
+            let front: [bool; 3] = std::array::from_fn(|i| lat[i][2] > 2.0 * err[i]);
+            let behind: [bool; 3] = std::array::from_fn(|i| lat[i][2] < -2.0 * err[i]);
+            if behind.iter().all(|&b| b) {
+                return None;
+            }
+            let mut img = [[0.0; 2]; 3];
+            let mut dmax: f64 = 0.0;
+            for i in 0..3 {
+                if !front[i] {
+                    continue;
+                }
+                let [x, y, z] = lat[i];
+                let (px, py) = (x / z, y / z);
+                // |X'/Z' - X/Z| <= 2 err (|X| + Z) / Z^2 for |Z' - Z|, |X' - X| <= err <= Z / 2,
+                // plus the division's own rounding.
+                let d = 2.0 * err[i] * (x.abs() + y.abs() + z) / (z * z)
+                    + 2.0 * EPS * (px.abs() + py.abs());
+                img[i] = [px, py];
+                dmax = dmax.max(d);
+                grow(px, py, d);
+            }
+            if front.iter().all(|&f| f) {
+                return Some(Proj {
+                    bbox,
+                    tri: Some((img, dmax)),
+                });
+            }
+            if !front.iter().any(|&f| f) {
+                // Only corners near the eye's plane reach the front: no useful box.
+                return Some(Proj {
+                    bbox: [
+                        f64::NEG_INFINITY,
+                        f64::NEG_INFINITY,
+                        f64::INFINITY,
+                        f64::INFINITY,
+                    ],
+                    tri: None,
+                });
+            }
+            // Along an edge that reaches the eye's plane the image runs off to infinity on the
+            // side of the lateral coordinate where it gets there (the image of a segment is
+            // monotone); elsewhere the corners in front bound it.
+            for i in 0..3 {
+                let j = (i + 1) % 3;
+                if (front[i] && front[j]) || (behind[i] && behind[j]) {
+                    continue;
+                }
+                let d = err[i].max(err[j]);
+                for a in 0..2 {
+                    if lat[i][a].max(lat[j][a]) + d > 0.0 {
+                        bbox[2 + a] = f64::INFINITY;
+                    }
+                    if lat[i][a].min(lat[j][a]) - d < 0.0 {
+                        bbox[a] = f64::NEG_INFINITY;
+                    }
+                }
+            }
+            Some(Proj { bbox, tri: None })
+        }
     }
 }
 
@@ -276,10 +365,8 @@ struct PairCtx<'a> {
     pts: &'a [[f64; 3]],
     tri: &'a [[u32; 3]],
     view: Viewpoint,
-    cam: &'a Camera,
-    shapes: &'a [Option<Vec<[f64; 2]>>],
-    exact: &'a [bool],
-    tol: f64,
+    proj: &'a [Option<Proj>],
+    exact_calls: AtomicUsize,
 }
 
 impl PairCtx<'_> {
@@ -287,42 +374,57 @@ impl PairCtx<'_> {
         &self.pts[v as usize]
     }
 
-    /// Whether some ray from the eye crosses exit face `f` and then entry face `g`.
+    /// Whether some ray from the eye crosses exit face `f` and then entry face `g` (exact).
     fn exit_in_front(&self, f: usize, g: usize) -> bool {
         let (ft, gt) = (self.tri[f], self.tri[g]);
-        if let (Some(a), Some(b)) = (&self.shapes[f], &self.shapes[g]) {
-            if separated(a, b, self.tol) {
-                return false;
-            }
-            // Exactly: the projections' interiors must meet, or no ray crosses both faces.
-            if self.exact[f]
-                && self.exact[g]
-                && (self.exactly_separated(&ft, &gt) || self.exactly_separated(&gt, &ft))
-            {
+        let (ta, tb) = match (&self.proj[f], &self.proj[g]) {
+            (Some(a), Some(b)) => (&a.tri, &b.tri),
+            _ => return false,
+        };
+        if let (Some(a), Some(b)) = (ta, tb) {
+            if float_separated(a, b) {
                 return false;
             }
         }
+        // A plane through the eye and an edge with the two faces on either side (touching
+        // allowed) leaves no ray through both interiors.
+        if self.edge_plane_separated(&ft, &gt) || self.edge_plane_separated(&gt, &ft) {
+            return false;
+        }
+        if ta.is_none() || tb.is_none() {
+            // Not both surely in front: the rays through them need not fit in one half-space, so
+            // edge planes are not the only candidates; planes through a corner of each are the
+            // others. Whatever they leave is decided exactly.
+            if self.corner_plane_separated(&ft, &gt) {
+                return false;
+            }
+            return self.exact(&ft, &gt);
+        }
+        // Both in front and not separated: the images' interiors overlap.
         // g against f's plane: for an exit face the eye is on the inner (positive) side.
-        let side_f = ft_side(self.pts, &ft, &gt);
-        match side_f {
-            Side::Outer => return true,
-            Side::Inner | Side::Coplanar => return false,
+        match ft_side(self.pts, &ft, &gt) {
+            Side::Outer | Side::Coplanar => return true,
+            Side::Inner => return false,
             Side::Mixed => {}
         }
         // f against g's plane: for an entry face the eye is on the outer (negative) side.
         match ft_side(self.pts, &gt, &ft) {
-            Side::Outer => return true,
-            Side::Inner => return false,
-            Side::Coplanar => return false,
-            Side::Mixed => {}
+            Side::Outer | Side::Coplanar => true,
+            Side::Inner => false,
+            Side::Mixed => self.exact(&ft, &gt),
         }
-        self.sample_in_front(f, g)
     }
 
-    /// Whether an edge line of `t` (seen from the eye) leaves all of `o` on the side away from
-    /// `t`, touching allowed: the projective orientation `orient3d(p, q, x, eye)` has the same
-    /// sign as the projected 2D orientation for points in front of the eye, so this is exact.
-    fn exactly_separated(&self, t: &[u32; 3], o: &[u32; 3]) -> bool {
+    fn exact(&self, ft: &[u32; 3], gt: &[u32; 3]) -> bool {
+        self.exact_calls.fetch_add(1, Relaxed);
+        let f = ft.map(|v| *self.p(v));
+        let g = gt.map(|v| *self.p(v));
+        exact::relation(&self.view, &f, &g).f_first
+    }
+
+    /// Whether an edge plane of `t` (through the eye, or along the view direction) leaves all of
+    /// `o` on the side away from `t`, touching allowed. Exact (orient3d or exact normal signs).
+    fn edge_plane_separated(&self, t: &[u32; 3], o: &[u32; 3]) -> bool {
         let s = eye_side(&self.view, self.p(t[0]), self.p(t[1]), self.p(t[2]));
         if s == 0 {
             return true;
@@ -334,26 +436,23 @@ impl PairCtx<'_> {
         })
     }
 
-    /// Neither plane separates the two (rare): compare depths along a ray through a point of
-    /// the overlap of their projections.
-    fn sample_in_front(&self, f: usize, g: usize) -> bool {
-        let (Some(a), Some(b)) = (&self.shapes[f], &self.shapes[g]) else {
-            return false;
-        };
-        let Some(q) = overlap_point(a, b) else {
-            return false;
-        };
-        let (r, u, fw) = self.cam.frame();
-        let (o, dir) = match self.view {
-            Viewpoint::Direction(v) => ([0, 1, 2].map(|k| q[0] * r[k] + q[1] * u[k]), v),
-            Viewpoint::Eye(e) => (e, [0, 1, 2].map(|k| fw[k] + q[0] * r[k] + q[1] * u[k])),
-        };
-        let depth = |t: &[u32; 3]| {
-            let (a, b, c) = (self.p(t[0]), self.p(t[1]), self.p(t[2]));
-            let n = cross(&sub(b, a), &sub(c, a));
-            dot(&n, &sub(a, &o)) / dot(&n, &dir)
-        };
-        depth(&self.tri[f]) < depth(&self.tri[g])
+    /// Whether a plane through the eye, a corner of `a` and a corner of `b` has `a` on one side
+    /// and `b` on the other (touching allowed; a degenerate plane separates nothing).
+    fn corner_plane_separated(&self, a: &[u32; 3], b: &[u32; 3]) -> bool {
+        (0..3).any(|i| {
+            (0..3).any(|j| {
+                let (u, w) = (self.p(a[i]), self.p(b[j]));
+                let sa = [1, 2].map(|k| eye_side(&self.view, u, w, self.p(a[(i + k) % 3])));
+                let sb = [1, 2].map(|k| eye_side(&self.view, u, w, self.p(b[(j + k) % 3])));
+                let one = |x: &[i8; 2], y: &[i8; 2]| {
+                    x.iter().all(|&s| s >= 0)
+                        && x.iter().any(|&s| s > 0)
+                        && y.iter().all(|&s| s <= 0)
+                        && y.iter().any(|&s| s < 0)
+                };
+                one(&sa, &sb) || one(&sb, &sa)
+            })
+        })
     }
 }
 
@@ -388,72 +487,37 @@ fn ft_side(pts: &[[f64; 3]], t: &[u32; 3], other: &[u32; 3]) -> Side {
     }
 }
 
-/// Twice the signed area of a polygon (shoelace).
-fn signed_area(s: &[[f64; 2]]) -> f64 {
-    (0..s.len())
-        .map(|i| {
-            let (p, q) = (&s[i], &s[(i + 1) % s.len()]);
-            p[0] * q[1] - q[0] * p[1]
-        })
-        .sum()
+/// `orient2(p, q, x)` and a bound on its error when every coordinate is off by at most `d`.
+fn orient2_bound(p: &[f64; 2], q: &[f64; 2], x: &[f64; 2], d: f64) -> (f64, f64) {
+    let (ux, uy) = (q[0] - p[0], q[1] - p[1]);
+    let (vx, vy) = (x[0] - p[0], x[1] - p[1]);
+    let (a, b) = (ux * vy, uy * vx);
+    let bound = 2.0 * d * (ux.abs() + uy.abs() + vx.abs() + vy.abs())
+        + 4.0 * d * d
+        + 4.0 * EPS * (a.abs() + b.abs());
+    (a - b, bound)
 }
 
-fn orient2(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-}
-
-/// Whether an edge line of either triangle separates them by more than `tol` (so a conservative
-/// "maybe overlapping" for touching or nearly touching triangles).
-fn separated(a: &[[f64; 2]], b: &[[f64; 2]], tol: f64) -> bool {
-    let sep = |s: &[[f64; 2]], o: &[[f64; 2]]| -> bool {
-        let area = signed_area(s);
-        if area == 0.0 {
+/// Whether an edge line of either projected triangle surely separates them: by more than the
+/// error bound of the projected corners (so only a filter: "no" decides nothing).
+fn float_separated(a: &([[f64; 2]; 3], f64), b: &([[f64; 2]; 3], f64)) -> bool {
+    let d = a.1.max(b.1);
+    let sep = |s: &[[f64; 2]; 3], o: &[[f64; 2]; 3]| -> bool {
+        let (area, ab) = orient2_bound(&s[0], &s[1], &s[2], d);
+        // NaN or within the bound: the orientation itself is unsure.
+        if area.abs().partial_cmp(&ab) != Some(std::cmp::Ordering::Greater) {
             return false;
         }
         let sg = area.signum();
-        (0..s.len()).any(|i| {
-            let (p, q) = (&s[i], &s[(i + 1) % s.len()]);
-            let len = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
-            o.iter().all(|x| sg * orient2(p, q, x) < -tol * len)
+        (0..3).any(|i| {
+            let (p, q) = (&s[i], &s[(i + 1) % 3]);
+            o.iter().all(|x| {
+                let (v, bound) = orient2_bound(p, q, x, d);
+                sg * v < -bound
+            })
         })
     };
-    sep(a, b) || sep(b, a)
-}
-
-/// A point inside both triangles' projections (the centroid of their clipped intersection).
-fn overlap_point(a: &[[f64; 2]], b: &[[f64; 2]]) -> Option<[f64; 2]> {
-    let mut poly: Vec<[f64; 2]> = b.to_vec();
-    let sg = signed_area(a).signum();
-    if sg == 0.0 {
-        return None;
-    }
-    for i in 0..a.len() {
-        let (p, q) = (&a[i], &a[(i + 1) % a.len()]);
-        let inside = |x: &[f64; 2]| sg * orient2(p, q, x) >= 0.0;
-        let mut next = Vec::with_capacity(poly.len() + 1);
-        for k in 0..poly.len() {
-            let (c, d) = (&poly[k], &poly[(k + 1) % poly.len()]);
-            let (ic, id) = (inside(c), inside(d));
-            if ic {
-                next.push(*c);
-            }
-            if ic != id {
-                let oc = orient2(p, q, c);
-                let od = orient2(p, q, d);
-                let t = oc / (oc - od);
-                next.push([c[0] + t * (d[0] - c[0]), c[1] + t * (d[1] - c[1])]);
-            }
-        }
-        poly = next;
-        if poly.is_empty() {
-            return None;
-        }
-    }
-    let n = poly.len() as f64;
-    Some([
-        poly.iter().map(|x| x[0]).sum::<f64>() / n,
-        poly.iter().map(|x| x[1]).sum::<f64>() / n,
-    ])
+    sep(&a.0, &b.0) || sep(&b.0, &a.0)
 }
 
 /// Whether outward triangles form one closed, connected, edge-manifold surface with no reflex
@@ -514,6 +578,7 @@ fn is_convex(pts: &[[f64; 3]], tri: &[[u32; 3]]) -> bool {
 mod tests {
     use super::*;
     use crate::mesh::generate::structured_grid;
+    use proptest::prelude::*;
 
     fn boundary(mesh: &TetMesh) -> Option<LeafBoundary> {
         let adj = Adjacency::build(&mesh.points, &mesh.tets);
@@ -548,14 +613,167 @@ mod tests {
     }
 
     #[test]
-    fn overlap_and_separation() {
-        let a = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
-        let b = [[0.2, 0.2], [2.0, 0.2], [0.2, 2.0]];
-        let c = [[2.0, 2.0], [3.0, 2.0], [2.0, 3.0]];
-        assert!(!separated(&a, &b, 0.0));
-        assert!(separated(&a, &c, 0.0));
-        let q = overlap_point(&a, &b).unwrap();
-        assert!(q[0] > 0.2 && q[1] > 0.2 && q[0] + q[1] < 1.0);
-        assert!(overlap_point(&a, &c).is_none());
+    fn float_separation_is_a_filter() {
+        let a = ([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], 1e-12);
+        let b = ([[0.2, 0.2], [2.0, 0.2], [0.2, 2.0]], 1e-12);
+        let c = ([[2.0, 2.0], [3.0, 2.0], [2.0, 3.0]], 1e-12);
+        // Touching along an edge: not surely separated (the exact tests decide).
+        let d = ([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]], 1e-12);
+        assert!(!float_separated(&a, &b));
+        assert!(float_separated(&a, &c));
+        assert!(!float_separated(&a, &d));
+    }
+
+    fn tri_strategy() -> impl Strategy<Value = [[f64; 3]; 3]> {
+        prop::array::uniform3(prop::array::uniform3(-2.0f64..2.0))
+    }
+
+    /// Two triangles on either side of the plane `z = h` (so they cannot cross): whatever ray
+    /// crosses both meets first the one on the eye's side.
+    fn split_pair() -> impl Strategy<Value = ([[f64; 3]; 3], [[f64; 3]; 3], f64)> {
+        (tri_strategy(), tri_strategy(), -0.5f64..0.5).prop_map(|(mut a, mut b, h)| {
+            for p in a.iter_mut() {
+                p[2] = h + 0.05 + p[2].abs();
+            }
+            for p in b.iter_mut() {
+                p[2] = h - 0.05 - p[2].abs();
+            }
+            (a, b, h)
+        })
+    }
+
+    fn ray_hits(o: &[f64; 3], d: &[f64; 3], t: &[[f64; 3]; 3]) -> Option<f64> {
+        // Moller-Trumbore with a margin: only clear interior hits count.
+        let e1 = sub(&t[1], &t[0]);
+        let e2 = sub(&t[2], &t[0]);
+        let pv = crate::geom::cross(d, &e2);
+        let det = dot(&e1, &pv);
+        if det.abs() < 1e-9 {
+            return None;
+        }
+        let s = sub(o, &t[0]);
+        let u = dot(&s, &pv) / det;
+        let qv = crate::geom::cross(&s, &e1);
+        let v = dot(d, &qv) / det;
+        let w = dot(&e2, &qv) / det;
+        (u > 1e-6 && v > 1e-6 && u + v < 1.0 - 1e-6 && w > 1e-6).then_some(w)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+
+        /// The exact relation against rays cast through a grid of directions, for eyes anywhere
+        /// (faces in front, behind, or reaching behind the eye) and orthographic directions.
+        #[test]
+        fn exact_relation_agrees_with_sampled_rays(
+            (a, b, h) in split_pair(),
+            eye in prop::array::uniform3(-3.0f64..3.0),
+            ortho in any::<bool>(),
+        ) {
+            let view = if ortho {
+                Viewpoint::Direction([eye[0] * 0.1, eye[1] * 0.1, -1.0])
+            } else {
+                Viewpoint::Eye(eye)
+            };
+            let sa = eye_side(&view, &a[0], &a[1], &a[2]);
+            let sb = eye_side(&view, &b[0], &b[1], &b[2]);
+            prop_assume!(sa != 0 && sb != 0);
+            let r = exact::relation(&view, &a, &b);
+            let r2 = exact::relation(&view, &b, &a);
+            prop_assert_eq!(r.overlap, r2.overlap);
+            // The eye's side of z = h says which comes first on every ray through both.
+            let a_first = match view {
+                Viewpoint::Eye(e) => e[2] > h,
+                Viewpoint::Direction(_) => true,
+            };
+            if r.overlap {
+                prop_assert_eq!(r.f_first, a_first);
+                prop_assert_eq!(r2.f_first, !a_first);
+            }
+            // Any sampled ray through both interiors must be seen by the exact test.
+            let mut hit = false;
+            for i in 0..24 {
+                for j in 0..24 {
+                    let (x, y) = (-3.0 + 6.0 * (i as f64 + 0.5) / 24.0, -3.0 + 6.0 * (j as f64 + 0.5) / 24.0);
+                    let (o, d) = match view {
+                        Viewpoint::Eye(e) => {
+                            // Rays in all directions: through points on a sphere-ish grid.
+                            (e, [x, y, if (i + j) % 2 == 0 { 1.0 } else { -1.0 }])
+                        }
+                        Viewpoint::Direction(v) => ([x, y, 10.0], v),
+                    };
+                    if let (Some(ta), Some(tb)) = (ray_hits(&o, &d, &a), ray_hits(&o, &d, &b)) {
+                        hit = true;
+                        prop_assert_eq!(ta < tb, a_first);
+                    }
+                }
+            }
+            if hit {
+                prop_assert!(r.overlap, "a sampled ray crosses both: {:?}", r);
+            }
+        }
+
+        /// In front of the eye the orient3d edge planes decide overlap exactly: both must agree,
+        /// and the float filter must never claim a separation that is not there.
+        #[test]
+        fn edge_planes_and_float_filter_agree_with_exact(
+            a in tri_strategy(),
+            b in tri_strategy(),
+            ortho in any::<bool>(),
+            snap in any::<bool>(),
+        ) {
+            let (mut a, mut b) = (a, b);
+            for p in a.iter_mut().chain(b.iter_mut()) {
+                p[2] = 1.0 + p[2].abs();
+            }
+            if snap {
+                // Shared corners and collinear images: the touching cases.
+                b[0] = a[0];
+                b[1] = [2.0 * a[1][0], 2.0 * a[1][1], 2.0 * a[1][2]];
+            }
+            let view = if ortho {
+                Viewpoint::Direction([0.1, -0.2, 1.0])
+            } else {
+                Viewpoint::Eye([0.1, -0.2, 0.0])
+            };
+            prop_assume!(eye_side(&view, &a[0], &a[1], &a[2]) != 0);
+            prop_assume!(eye_side(&view, &b[0], &b[1], &b[2]) != 0);
+            let pts: Vec<[f64; 3]> = a.iter().chain(b.iter()).copied().collect();
+            let ctx = PairCtx {
+                pts: &pts,
+                tri: &[[0, 1, 2], [3, 4, 5]],
+                view,
+                proj: &[],
+                exact_calls: AtomicUsize::new(0),
+            };
+            let sat = ctx.edge_plane_separated(&[0, 1, 2], &[3, 4, 5])
+                || ctx.edge_plane_separated(&[3, 4, 5], &[0, 1, 2]);
+            let r = exact::relation(&view, &a, &b);
+            prop_assert_eq!(!sat, r.overlap);
+            prop_assert!(!(ctx.corner_plane_separated(&[0, 1, 2], &[3, 4, 5]) && r.overlap));
+            let mut cam = Camera {
+                position: [0.1, -0.2, 0.0],
+                focal: [0.1, -0.2, 1.0],
+                up: [0.0, 1.0, 0.0],
+                view_angle: 60.0,
+                parallel: ortho,
+                parallel_scale: 1.0,
+            };
+            if ortho {
+                cam.position = [0.0, 0.0, -10.0];
+                cam.focal = [0.1, -0.2, -9.0];
+            }
+            let frame = cam.frame();
+            let pa = project(&view, &frame, [&a[0], &a[1], &a[2]]).unwrap();
+            let pb = project(&view, &frame, [&b[0], &b[1], &b[2]]).unwrap();
+            let (ta, tb) = (pa.tri.unwrap(), pb.tri.unwrap());
+            if float_separated(&ta, &tb) {
+                prop_assert!(!r.overlap);
+            }
+            if r.overlap {
+                let (x, y) = (pa.bbox, pb.bbox);
+                prop_assert!(!(x[0] > y[2] || y[0] > x[2] || x[1] > y[3] || y[1] > x[3]));
+            }
+        }
     }
 }

@@ -53,7 +53,7 @@ pub fn normal_dot_sign(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], v: &[f64; 3]) -
 }
 
 /// `x = m * 2^e` with integer `m`.
-fn decompose(x: f64) -> (i64, i32) {
+pub(super) fn decompose(x: f64) -> (i64, i32) {
     if x == 0.0 {
         return (0, 0);
     }

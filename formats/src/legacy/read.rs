@@ -1,12 +1,13 @@
 //! The dataset part of a legacy file: DATASET, FIELD, POINTS, CELLS (4.2 counts-inline or 5.1
 //! OFFSETS/CONNECTIVITY), CELL_TYPES, then the attribute sections; polyhedra's face streams are
-//! turned into point lists plus the face arrays VTK keeps.
+//! turned into point lists plus the face arrays VTK keeps. A POLYDATA dataset's VERTICES, LINES,
+//! POLYGONS and TRIANGLE_STRIPS become cells in that order (VTK's numbering).
 
 use super::attributes::{read_field, read_metadata, read_section, read_type};
 use super::cursor::{is_kw, show, Cursor};
 use super::header;
 use super::values::{read_numeric, read_values, LegacyType};
-use crate::{cell_type, ArrayData, Cells, DataArray, FormatError, Grid, Result};
+use crate::{cell_type, ArrayData, Cells, DataArray, FormatError, Grid, PolySection, Result};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -50,10 +51,35 @@ pub fn read_path(path: &Path) -> Result<Grid> {
     read_body(cur).map_err(|e| e.with_file(path))
 }
 
+impl RawCells {
+    fn count(&self) -> usize {
+        match self {
+            RawCells::Counts { n, .. } => *n,
+            RawCells::Offsets { offsets, .. } => offsets.len().saturating_sub(1),
+        }
+    }
+}
+
+fn poly_keyword(t: &[u8]) -> Option<PolySection> {
+    PolySection::ALL.into_iter().find(|s| {
+        is_kw(
+            t,
+            match s {
+                PolySection::Verts => "VERTICES",
+                PolySection::Lines => "LINES",
+                PolySection::Polys => "POLYGONS",
+                PolySection::Strips => "TRIANGLE_STRIPS",
+            },
+        )
+    })
+}
+
 /// Everything after the header.
 fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     let mut grid = Grid::default();
     let mut have_dataset = false;
+    // POLYDATA: each section's cells as read, and where its keyword was.
+    let mut poly: Option<Vec<(PolySection, RawCells, usize)>> = None;
     let mut have_points = false;
     let mut raw: Option<RawCells> = None;
     let mut types: Option<(Vec<u8>, usize)> = None;
@@ -61,11 +87,13 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
         let t = &t[..];
         if is_kw(t, "DATASET") {
             let (q, kind) = cur.require("the dataset type")?;
-            if !is_kw(&kind, "UNSTRUCTURED_GRID") {
+            if is_kw(&kind, "POLYDATA") {
+                poly = Some(Vec::new());
+            } else if !is_kw(&kind, "UNSTRUCTURED_GRID") {
                 return Err(cur.err(
                     q,
                     format!(
-                        "dataset type '{}' is not supported: only UNSTRUCTURED_GRID is read",
+                        "dataset type '{}' is not supported: UNSTRUCTURED_GRID and POLYDATA are read",
                         show(&kind)
                     ),
                 ));
@@ -108,9 +136,14 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
             }
             grid.points = points;
             have_points = true;
-        } else if is_kw(t, "CELLS") {
+        } else if let (Some(secs), Some(sec)) = (poly.as_mut(), poly_keyword(t)) {
+            if secs.iter().any(|x| x.0 == sec) {
+                return Err(cur.err(p, format!("a second {} section", show(t))));
+            }
+            secs.push((sec, read_cells(&mut cur, p)?, p));
+        } else if poly.is_none() && is_kw(t, "CELLS") {
             raw = Some(read_cells(&mut cur, p)?);
-        } else if is_kw(t, "CELL_TYPES") {
+        } else if poly.is_none() && is_kw(t, "CELL_TYPES") {
             let n = cur.expect_count("the number of cell types")?;
             let at = cur.pos;
             let v: Vec<i32> = read_values(&mut cur, n, "CELL_TYPES")?;
@@ -127,6 +160,8 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
             let n = cur.expect_count("the number of tuples")?;
             let expected = if point {
                 grid.num_points()
+            } else if let Some(secs) = &poly {
+                secs.iter().map(|x| x.1.count()).sum()
             } else {
                 types.as_ref().map_or(0, |t| t.0.len())
             };
@@ -149,7 +184,15 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
         } else {
             return Err(cur.err(
                 p,
-                format!("unknown keyword '{}' in an UNSTRUCTURED_GRID", show(t)),
+                format!(
+                    "unknown keyword '{}' in {}",
+                    show(t),
+                    if poly.is_some() {
+                        "a POLYDATA"
+                    } else {
+                        "an UNSTRUCTURED_GRID"
+                    }
+                ),
             ));
         }
     }
@@ -158,6 +201,13 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     }
     if !have_points && raw.is_some() {
         return Err(cur.err(cur.pos, "CELLS given but no POINTS"));
+    }
+    if let Some(secs) = poly {
+        if !have_points && !secs.is_empty() {
+            return Err(cur.err(cur.pos, "cells given but no POINTS"));
+        }
+        grid.cells = poly_cells(&cur, secs, grid.num_points())?;
+        return Ok(grid);
     }
     grid.cells = match (raw, types) {
         (None, None) => Cells::new(),
@@ -169,6 +219,32 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
         (Some(raw), Some((t, p))) => assemble(&cur, raw, t, p, grid.num_points())?,
     };
     Ok(grid)
+}
+
+/// A POLYDATA's sections as one cell list in VTK's order, each cell typed by its section and
+/// size. Each section is checked like CELLS (counts, ids in range) on its own.
+fn poly_cells(
+    cur: &Cursor<'_>,
+    mut secs: Vec<(PolySection, RawCells, usize)>,
+    np: usize,
+) -> Result<Cells> {
+    secs.sort_by_key(|x| PolySection::ALL.iter().position(|s| *s == x.0));
+    let mut out = Cells::new();
+    for (sec, raw, at) in secs {
+        let n = raw.count();
+        // Any non-polyhedron type serves while checking; the real types follow from the sizes.
+        let c = assemble(cur, raw, vec![cell_type::POLYGON; n], at, np)?;
+        let base = *out.offsets.last().unwrap_or(&0);
+        for w in c.offsets.windows(2) {
+            if w[1] == w[0] {
+                return Err(cur.err(at, format!("{sec:?}: a cell with no points")));
+            }
+            out.types.push(sec.cell_type((w[1] - w[0]) as usize));
+            out.offsets.push(base + w[1]);
+        }
+        out.connectivity.extend_from_slice(&c.connectivity);
+    }
+    Ok(out)
 }
 
 /// Scans in parallel blocks, each a plain loop the compiler can vectorize (rayon's

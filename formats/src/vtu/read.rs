@@ -1,4 +1,6 @@
-//! Assembles a [`Grid`] from a parsed .vtu: arrays decoded in parallel, pieces merged in order.
+//! Assembles a [`Grid`] from a parsed .vtu (or .vtp, whose verts, lines, polys and strips become
+//! cells in that order, VTK's own cell numbering): arrays decoded in parallel, pieces merged in
+//! order.
 
 use super::decode::{self, Appended, Input};
 use super::source::{Blob, FileBlob, MemBlob};
@@ -182,12 +184,63 @@ fn missing(p: &PieceXml, what: &str) -> FormatError {
     FormatError::at_byte(p.tag_pos, format!("<Piece> has no '{what}' array"))
 }
 
+/// A PolyData piece's four sections as one cell list: offsets (n+1), connectivity, and each
+/// cell's type from its section and size ([`crate::PolySection::cell_type`]).
+fn poly_cells(inp: &Input, p: &PieceXml) -> Result<(Vec<i64>, Vec<i64>, Vec<u8>)> {
+    let mut offsets = vec![0i64];
+    let mut connectivity = Vec::new();
+    let mut types = Vec::new();
+    for (sec, n, arrays) in &p.poly {
+        if *n == 0 {
+            continue;
+        }
+        let find = |name: &str| {
+            arrays.iter().find(|a| a.name == name).ok_or_else(|| {
+                FormatError::at_byte(
+                    p.tag_pos,
+                    format!("<{sec:?}> of this piece has no '{name}' array"),
+                )
+            })
+        };
+        let (oa, ca) = (find("offsets")?, find("connectivity")?);
+        let off = decode::ids(inp, oa, *n, 1)?;
+        let last = usize::try_from(off[*n]).map_err(|_| {
+            FormatError::at_byte(
+                oa.tag_pos,
+                format!("array 'offsets': last offset is {}", off[*n]),
+            )
+        })?;
+        let conn = decode::ids(inp, ca, last, 0)?;
+        let base = connectivity.len() as i64;
+        for w in off.windows(2) {
+            let size = w[1] - w[0];
+            if size < 1 || w[1] as usize > last {
+                return Err(FormatError::at_byte(
+                    oa.tag_pos,
+                    format!("array 'offsets' of <{sec:?}>: offsets must increase (a cell of {size} points)"),
+                ));
+            }
+            types.push(sec.cell_type(size as usize));
+            offsets.push(base + w[1]);
+        }
+        connectivity.extend_from_slice(&conn);
+    }
+    Ok((offsets, connectivity, types))
+}
+
 /// Decodes one piece: offsets then connectivity on one side, everything else on the other.
 fn piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
     let (np, nc) = (p.num_points, p.num_cells);
-    let cells = || -> Result<(Vec<i64>, Vec<i64>)> {
+    let poly_data = !p.poly.is_empty();
+    // Offsets, connectivity, and (PolyData only) the types the sections imply.
+    type Decoded = (Vec<i64>, Vec<i64>, Option<Vec<u8>>);
+    let cells = || -> Result<Decoded> {
         if nc == 0 {
-            return Ok((vec![0], Vec::new()));
+            return Ok((vec![0], Vec::new(), None));
+        }
+        if poly_data {
+            let (o, c, t) = poly_cells(inp, p)?;
+            return Ok((o, c, Some(t)));
         }
         let oa = cell_array(p, "offsets").ok_or_else(|| missing(p, "offsets"))?;
         let ca = cell_array(p, "connectivity").ok_or_else(|| missing(p, "connectivity"))?;
@@ -201,7 +254,7 @@ fn piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
             )
         })?;
         let connectivity = decode::ids(inp, ca, n, 0)?;
-        Ok((offsets, connectivity))
+        Ok((offsets, connectivity, None))
     };
     let rest = || -> Result<_> {
         let points = match &p.points {
@@ -227,7 +280,7 @@ fn piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
             None if np == 0 => DataArray::new("Points", 3, ArrayData::Float32(Vec::new())),
             None => return Err(FormatError::at_byte(p.tag_pos, "<Piece> has no <Points>")),
         };
-        let types = if nc == 0 {
+        let types = if nc == 0 || poly_data {
             Vec::new()
         } else {
             let ta = cell_array(p, "types").ok_or_else(|| missing(p, "types"))?;
@@ -275,8 +328,9 @@ fn piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
         Ok((points, types, faces, pd?, cd?))
     };
     let (c, r) = rayon::join(cells, rest);
-    let (offsets, connectivity) = c?;
+    let (offsets, connectivity, poly_types) = c?;
     let (points, types, polyhedron_faces, point_data, cell_data) = r?;
+    let types = poly_types.unwrap_or(types);
     Ok(Grid {
         points,
         cells: Cells {

@@ -1,8 +1,9 @@
-//! The XML structure of a .vtu, read with quick-xml events: which arrays exist, their attributes,
-//! and their inline text; stops at `<AppendedData>` (binary follows, which is not XML).
+//! The XML structure of a .vtu (or a .vtp: PolyData shares the layout), read with quick-xml
+//! events: which arrays exist, their attributes, and their inline text; stops at `<AppendedData>`
+//! (binary follows, which is not XML).
 
 use super::{ByteOrder, Compressor, HeaderType, Layout};
-use crate::{Attribute, FormatError, Result, ScalarType};
+use crate::{Attribute, FormatError, PolySection, Result, ScalarType};
 use quick_xml::events::{BytesStart, Event};
 use std::io::BufRead;
 
@@ -46,11 +47,34 @@ pub(crate) struct AttributesXml {
     pub active: Vec<(Attribute, String)>,
 }
 
+/// The PolyData section a tag opens, and the `<Piece>` attribute that counts its cells.
+fn poly_section(tag: &[u8]) -> Option<PolySection> {
+    Some(match tag {
+        b"Verts" => PolySection::Verts,
+        b"Lines" => PolySection::Lines,
+        b"Polys" => PolySection::Polys,
+        b"Strips" => PolySection::Strips,
+        _ => return None,
+    })
+}
+
+fn count_attr(sec: PolySection) -> &'static str {
+    match sec {
+        PolySection::Verts => "NumberOfVerts",
+        PolySection::Lines => "NumberOfLines",
+        PolySection::Polys => "NumberOfPolys",
+        PolySection::Strips => "NumberOfStrips",
+    }
+}
+
 /// One `<Piece>`.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PieceXml {
     pub num_points: usize,
+    /// NumberOfCells; for PolyData the sum of the four section counts.
     pub num_cells: usize,
+    /// PolyData only: each section's cell count and its connectivity/offsets arrays.
+    pub poly: Vec<(PolySection, usize, Vec<ArrayXml>)>,
     pub point_data: AttributesXml,
     pub cell_data: AttributesXml,
     pub points: Option<ArrayXml>,
@@ -69,6 +93,8 @@ pub(crate) struct AppendedXml {
 
 #[derive(Clone, Debug)]
 pub(crate) struct Document {
+    /// `type="PolyData"` (a .vtp) rather than UnstructuredGrid.
+    pub poly_data: bool,
     pub layout: Layout,
     pub field_data: Vec<ArrayXml>,
     pub pieces: Vec<PieceXml>,
@@ -85,6 +111,7 @@ enum Ctx {
     CellData,
     Points,
     Cells,
+    Poly,
     Array,
     Other,
 }
@@ -243,6 +270,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
     let mut buf = Vec::new();
     let mut stack: Vec<Ctx> = Vec::new();
     let mut doc = Document {
+        poly_data: false,
         layout: Layout {
             header: HeaderType::UInt32,
             order: ByteOrder::LittleEndian,
@@ -255,6 +283,8 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
     let mut seen_root = false;
     // The array whose text is being collected, and the context it belongs to.
     let mut current: Option<(ArrayXml, Ctx)> = None;
+    // The PolyData cell section last opened (its arrays attach to it).
+    let mut section: Option<PolySection> = None;
     loop {
         let pos = reader.buffer_position();
         buf.clear();
@@ -268,7 +298,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                 let top = stack.pop();
                 if top == Some(Ctx::Array) {
                     if let Some((a, parent)) = current.take() {
-                        attach(&mut doc, parent, a, pos)?;
+                        attach(&mut doc, parent, section, a, pos)?;
                     }
                 }
                 continue;
@@ -310,6 +340,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                 seen_root = true;
                 match get(&a, "type") {
                     Some("UnstructuredGrid") => {}
+                    Some("PolyData") => doc.poly_data = true,
                     Some("PUnstructuredGrid") => {
                         return Err(FormatError::at_byte(
                             pos,
@@ -320,9 +351,9 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                         return Err(FormatError::at_byte(
                             pos,
                             format!(
-                                "VTKFile type is {:?}, expected \"UnstructuredGrid\"",
-                                other.unwrap_or("(none)")
-                            ),
+                            "VTKFile type is {:?}, expected \"UnstructuredGrid\" or \"PolyData\"",
+                            other.unwrap_or("(none)")
+                        ),
                         ))
                     }
                 }
@@ -338,7 +369,8 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                     ),
                 ))
             }
-            (Some(Ctx::File), b"UnstructuredGrid") => Ctx::Grid,
+            (Some(Ctx::File), b"UnstructuredGrid") if !doc.poly_data => Ctx::Grid,
+            (Some(Ctx::File), b"PolyData") if doc.poly_data => Ctx::Grid,
             (Some(Ctx::File), b"AppendedData") => {
                 let raw = match get(&a, "encoding").unwrap_or("raw") {
                     "raw" => true,
@@ -366,14 +398,29 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                     "NumberOfPoints",
                     pos,
                 )?;
-                let nc = parse_count(
-                    get(&a, "NumberOfCells").unwrap_or("0"),
-                    "NumberOfCells",
-                    pos,
-                )?;
+                let mut poly = Vec::new();
+                let nc = if doc.poly_data {
+                    let mut total = 0usize;
+                    for sec in PolySection::ALL {
+                        let what = count_attr(sec);
+                        let n = parse_count(get(&a, what).unwrap_or("0"), what, pos)?;
+                        total = total.checked_add(n).ok_or_else(|| {
+                            FormatError::at_byte(pos, "the piece's cell counts overflow")
+                        })?;
+                        poly.push((sec, n, Vec::new()));
+                    }
+                    total
+                } else {
+                    parse_count(
+                        get(&a, "NumberOfCells").unwrap_or("0"),
+                        "NumberOfCells",
+                        pos,
+                    )?
+                };
                 doc.pieces.push(PieceXml {
                     num_points: np,
                     num_cells: nc,
+                    poly,
                     tag_pos: pos,
                     ..PieceXml::default()
                 });
@@ -388,17 +435,25 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                 Ctx::CellData
             }
             (Some(Ctx::Piece), b"Points") => Ctx::Points,
-            (Some(Ctx::Piece), b"Cells") => Ctx::Cells,
+            (Some(Ctx::Piece), b"Cells") if !doc.poly_data => Ctx::Cells,
+            (Some(Ctx::Piece), t) if doc.poly_data && poly_section(t).is_some() => {
+                section = poly_section(t);
+                Ctx::Poly
+            }
             (
                 Some(
-                    p
-                    @ (Ctx::FieldData | Ctx::PointData | Ctx::CellData | Ctx::Points | Ctx::Cells),
+                    p @ (Ctx::FieldData
+                    | Ctx::PointData
+                    | Ctx::CellData
+                    | Ctx::Points
+                    | Ctx::Cells
+                    | Ctx::Poly),
                 ),
                 b"DataArray" | b"Array",
             ) => {
                 let arr = array_from(&a, pos)?;
                 if empty {
-                    attach(&mut doc, p, arr, pos)?;
+                    attach(&mut doc, p, section, arr, pos)?;
                     continue;
                 }
                 current = Some((arr, p));
@@ -428,7 +483,13 @@ fn last_piece(doc: &mut Document, pos: u64) -> Result<&mut PieceXml> {
         .ok_or_else(|| FormatError::at_byte(pos, "data outside a <Piece>"))
 }
 
-fn attach(doc: &mut Document, parent: Ctx, a: ArrayXml, pos: u64) -> Result<()> {
+fn attach(
+    doc: &mut Document,
+    parent: Ctx,
+    section: Option<PolySection>,
+    a: ArrayXml,
+    pos: u64,
+) -> Result<()> {
     match parent {
         Ctx::FieldData => doc.field_data.push(a),
         Ctx::PointData => last_piece(doc, pos)?.point_data.arrays.push(a),
@@ -444,6 +505,12 @@ fn attach(doc: &mut Document, parent: Ctx, a: ArrayXml, pos: u64) -> Result<()> 
             p.points = Some(a);
         }
         Ctx::Cells => last_piece(doc, pos)?.cells.push(a),
+        Ctx::Poly => {
+            let p = last_piece(doc, pos)?;
+            if let Some(entry) = p.poly.iter_mut().find(|e| Some(e.0) == section) {
+                entry.2.push(a);
+            }
+        }
         _ => {}
     }
     Ok(())

@@ -2,26 +2,17 @@
 //! memory of each step against the size of the mesh in memory. scripts/bench_io.py makes the
 //! 4.85M-tet mesh and runs VTK 9.1 on the same files in the same run.
 
-use anyhow::Context;
+use super::common::{time, FileArgs};
 use clap::Args;
 use formats::{Compression, Encoding, Grid, WriteOptions};
 use serde_json::json;
 use std::path::PathBuf;
-use std::time::Instant;
 
 #[derive(Args, Debug)]
 pub struct IoArgs {
-    /// A .vtu to read (any encoding); it is also written raw and zlib into --dir and read back.
-    pub input: PathBuf,
-    /// Folder for the files written (default: beside the input).
-    #[arg(long)]
-    pub dir: Option<PathBuf>,
-    /// Runs per step; the best time is reported.
-    #[arg(long, default_value_t = 3)]
-    pub repeat: usize,
-    /// Print JSON (for scripts/bench_io.py) instead of a table.
-    #[arg(long)]
-    pub json: bool,
+    /// A .vtu (any encoding), also written raw and zlib into --dir and read back.
+    #[command(flatten)]
+    pub files: FileArgs,
 }
 
 /// Bytes the mesh takes in memory (points, cells, every array).
@@ -42,72 +33,9 @@ fn mesh_bytes(g: &Grid) -> usize {
     data + g.cells.types.len() + 8 * (g.cells.offsets.len() + g.cells.connectivity.len())
 }
 
-/// Returns freed heap to the system and resets the kernel's peak-RSS mark (Linux: `5` into
-/// /proc/self/clear_refs), so each step's peak is its own and not the last step's leftovers.
-fn reset_peak() {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: malloc_trim only releases free memory held by the allocator.
-    unsafe {
-        libc::malloc_trim(0);
-    }
-    let _ = std::fs::write("/proc/self/clear_refs", "5");
-}
-
-/// Peak resident memory since the last reset, in bytes (Linux VmHWM).
-fn peak_rss() -> Option<usize> {
-    let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: usize = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
-struct Step {
-    name: String,
-    best_s: f64,
-    /// Peak resident memory of the process during the step (the largest over the runs).
-    peak: Option<usize>,
-}
-
-fn time<T>(
-    name: &str,
-    repeat: usize,
-    mut f: impl FnMut() -> anyhow::Result<T>,
-) -> anyhow::Result<(Step, T)> {
-    let mut best = f64::INFINITY;
-    let mut peak = None;
-    let mut last = None;
-    for _ in 0..repeat.max(1) {
-        drop(last.take());
-        reset_peak();
-        let t = Instant::now();
-        let v = f()?;
-        best = best.min(t.elapsed().as_secs_f64());
-        if let Some(p) = peak_rss() {
-            peak = Some(peak.map_or(p, |e: usize| e.max(p)));
-        }
-        last = Some(v);
-    }
-    let v = last.context("no run")?;
-    Ok((
-        Step {
-            name: name.to_string(),
-            best_s: best,
-            peak,
-        },
-        v,
-    ))
-}
-
 pub fn run(args: &IoArgs) -> anyhow::Result<()> {
-    let dir = match &args.dir {
-        Some(d) => d.clone(),
-        None => args
-            .input
-            .parent()
-            .map(|p| p.to_path_buf())
-            .unwrap_or_default(),
-    };
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let args = &args.files;
+    let dir = args.out_dir()?;
     let raw = dir.join("tetkit_bench_raw.vtu");
     let zlib = dir.join("tetkit_bench_zlib.vtu");
     let mut steps = Vec::new();

@@ -2,54 +2,31 @@
 //! (and reading those), best of --repeat runs. scripts/bench_legacy.py makes the 4.85M-tet mesh
 //! with VTK 9.1 and times VTK on the same files in the same run.
 
-use anyhow::Context;
+use super::common::{time, FileArgs};
 use clap::Args;
 use formats::{Encoding, LegacyVersion, WriteOptions};
 use serde_json::json;
-use std::path::PathBuf;
-use std::time::Instant;
 
 #[derive(Args, Debug)]
 pub struct LegacyArgs {
-    /// A legacy .vtk to read (any version and encoding).
-    pub input: PathBuf,
-    /// Folder for the files written (default: beside the input).
-    #[arg(long)]
-    pub dir: Option<PathBuf>,
-    /// Runs per step; the best time is reported.
-    #[arg(long, default_value_t = 3)]
-    pub repeat: usize,
+    /// A legacy .vtk (any version and encoding), written back as binary 5.1 and 4.2.
+    #[command(flatten)]
+    pub files: FileArgs,
     /// Also write and read ASCII (slow on big meshes).
     #[arg(long)]
     pub ascii: bool,
-    /// Print JSON (for scripts/bench_legacy.py) instead of a table.
-    #[arg(long)]
-    pub json: bool,
 }
 
-fn best<T>(repeat: usize, mut f: impl FnMut() -> anyhow::Result<T>) -> anyhow::Result<(f64, T)> {
-    let mut best = f64::INFINITY;
-    let mut last = None;
-    for _ in 0..repeat.max(1) {
-        drop(last.take());
-        let t = Instant::now();
-        let v = f()?;
-        best = best.min(t.elapsed().as_secs_f64());
-        last = Some(v);
-    }
-    Ok((best, last.context("no run")?))
+/// Best time of `repeat` runs of `f`, and its last value.
+fn best<T>(repeat: usize, f: impl FnMut() -> anyhow::Result<T>) -> anyhow::Result<(f64, T)> {
+    let (step, v) = time("", repeat, f)?;
+    Ok((step.best_s, v))
 }
 
 pub fn run(args: &LegacyArgs) -> anyhow::Result<()> {
-    let dir = match &args.dir {
-        Some(d) => d.clone(),
-        None => args
-            .input
-            .parent()
-            .map(|p| p.to_path_buf())
-            .unwrap_or_default(),
-    };
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let ascii = args.ascii;
+    let args = &args.files;
+    let dir = args.out_dir()?;
     let mut steps: Vec<(String, f64)> = Vec::new();
     let (t, grid) = best(args.repeat, || Ok(formats::read(&args.input)?))?;
     steps.push(("read input".into(), t));
@@ -57,7 +34,7 @@ pub fn run(args: &LegacyArgs) -> anyhow::Result<()> {
         ("5.1 binary", LegacyVersion::V51, Encoding::Binary),
         ("4.2 binary", LegacyVersion::V42, Encoding::Binary),
     ];
-    if args.ascii {
+    if ascii {
         variants.push(("5.1 ascii", LegacyVersion::V51, Encoding::Ascii));
     }
     for (name, legacy_version, encoding) in variants {

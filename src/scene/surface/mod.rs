@@ -3,9 +3,8 @@
 
 mod grid;
 mod obj;
+mod polydata;
 mod stl;
-mod vtk;
-mod vtp;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -26,6 +25,7 @@ pub struct TriSurface {
 }
 
 /// Polygons as read from a file, before welding and checking.
+#[derive(Debug)]
 pub(crate) struct RawSurface {
     pub points: Vec<[f64; 3]>,
     /// Polygons with at least 3 point ids; larger ones are fanned into triangles.
@@ -42,8 +42,8 @@ pub fn read(path: &Path) -> Result<TriSurface, FormatError> {
     let raw = match ext.as_str() {
         "stl" => stl::read(&bytes),
         "obj" => obj::read(&bytes),
-        "vtk" => vtk::read(&bytes),
-        "vtp" => vtp::read(&bytes),
+        "vtk" => polydata::read_legacy(&bytes),
+        "vtp" => polydata::read_xml(&bytes),
         _ => Err(FormatError::whole(format!(
             "unknown surface extension '.{ext}'; expected .stl, .obj, .vtk or .vtp"
         ))),
@@ -247,6 +247,29 @@ impl TriSurface {
     pub fn candidates(&self, b: &Aabb, out: &mut Vec<u32>) {
         self.grid.candidates(b, out)
     }
+}
+
+/// The next three words of a text record as finite coordinates; `what` names the record in the
+/// error (e.g. `'v'` in OBJ, `'vertex'` in ASCII STL).
+pub(super) fn parse_xyz<'a>(
+    words: &mut impl Iterator<Item = &'a str>,
+    line_no: usize,
+    what: &str,
+) -> Result<[f64; 3], FormatError> {
+    let mut p = [0.0; 3];
+    for x in p.iter_mut() {
+        let w = words.next().ok_or_else(|| {
+            FormatError::at_line(line_no, format!("{what} needs three coordinates"))
+        })?;
+        *x = w
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| {
+                FormatError::at_line(line_no, format!("'{w}' is not a finite number"))
+            })?;
+    }
+    Ok(p)
 }
 
 pub(crate) fn fmt_point(p: &[f64; 3]) -> String {

@@ -3,7 +3,7 @@
 
 use formats::FormatError;
 
-use super::RawSurface;
+use super::{parse_xyz, RawSurface};
 
 pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
     let text = std::str::from_utf8(bytes)
@@ -16,20 +16,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
         let mut words = line.split_whitespace();
         match words.next() {
             Some("v") => {
-                let mut p = [0.0; 3];
-                for x in p.iter_mut() {
-                    let w = words.next().ok_or_else(|| {
-                        FormatError::at_line(line_no, "'v' needs three coordinates")
-                    })?;
-                    *x = w
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| {
-                            FormatError::at_line(line_no, format!("'{w}' is not a finite number"))
-                        })?;
-                }
-                points.push(p);
+                points.push(parse_xyz(&mut words, line_no, "'v'")?);
             }
             Some("f") => {
                 let mut ids = Vec::new();

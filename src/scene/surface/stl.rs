@@ -3,7 +3,7 @@
 
 use formats::FormatError;
 
-use super::RawSurface;
+use super::{parse_xyz, RawSurface};
 
 pub(super) fn read(bytes: &[u8]) -> Result<RawSurface, FormatError> {
     if bytes.len() >= 84 {
@@ -74,19 +74,7 @@ fn read_ascii(bytes: &[u8]) -> Result<RawSurface, FormatError> {
                         "'vertex' outside 'outer loop'",
                     ));
                 };
-                let mut p = [0.0; 3];
-                for x in p.iter_mut() {
-                    let w = words.next().ok_or_else(|| {
-                        FormatError::at_line(line_no, "'vertex' needs three coordinates")
-                    })?;
-                    *x = w
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| {
-                            FormatError::at_line(line_no, format!("'{w}' is not a finite number"))
-                        })?;
-                }
+                let p = parse_xyz(&mut words, line_no, "'vertex'")?;
                 ids.push(points.len() as u32);
                 points.push(p);
             }
