@@ -475,6 +475,14 @@ pub(crate) fn setup_tet(
     };
     let smin = s.iter().copied().fold(f64::INFINITY, f64::min);
     let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Unused plane slots repeat the first plane, so the rasterizer takes the min and max over
+    // all three without branching (a repeat changes neither).
+    for k in nf..3 {
+        front[k] = front[0];
+    }
+    for k in nb..3 {
+        back[k] = back[0];
+    }
     Some(TetSetup {
         edges,
         nedges,
@@ -496,11 +504,26 @@ pub(crate) fn setup_tet(
     })
 }
 
-/// One fragment's (Sf, Sb, l) at pixel centre `(cx, cy)`.
+/// One fragment's (Sf, Sb, l) at pixel centre `(cx, cy)`: all three plane slots evaluated (the
+/// unused ones repeat a used plane), so no branch depends on the tet's class.
 #[inline(always)]
 fn fragment(t: &TetSetup, parallel: bool, cx: f32, cy: f32, stretch: f32) -> (f32, f32, f32) {
-    let (zf, zb, sref, h) = fragment_span(t, parallel, cx, cy);
+    let (dx, dy) = (cx - t.ox, cy - t.oy);
+    let ev = |p: &[f32; 3]| p[0] + p[1] * dx + p[2] * dy;
+    let f = [ev(&t.front[0]), ev(&t.front[1]), ev(&t.front[2])];
+    let b = [ev(&t.back[0]), ev(&t.back[1]), ev(&t.back[2])];
+    let (zf, zb) = if parallel {
+        (f[0].max(f[1]).max(f[2]), b[0].min(b[1]).min(b[2]))
+    } else {
+        let df = f[0].min(f[1]).min(f[2]);
+        let db = b[0].max(b[1]).max(b[2]);
+        // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
+        let w0 = t.w0;
+        (-df / (w0 * (w0 + df)), -db / (w0 * (w0 + db)))
+    };
     let l = ((zb - zf) * stretch).max(0.0);
+    let sref = ev(&t.sref);
+    let h = ev(&t.h);
     let sf = (sref + zf * h).clamp(t.smin, t.smax);
     let sb = (sref + zb * h).clamp(t.smin, t.smax);
     (sf, sb, if l.is_finite() { l } else { 0.0 })
@@ -721,33 +744,11 @@ pub fn render_with(
         stretch: &stretch,
         shader,
     };
-    let (img, fragments, bin_s) = match schedule {
+    let (img, stats, bin_s) = match schedule {
         Schedule::Tiles => render_tiles(&ctx, order),
         Schedule::Chunks => render_chunks(&ctx, order),
     };
     let t3 = std::time::Instant::now();
-    // Class counts once per tet (cheap, in parallel).
-    const CHUNK: usize = 1 << 15;
-    let mut stats = order
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            let mut st = PtStats::default();
-            for &t in chunk {
-                let p = tets[t as usize].map(|v| &proj[v as usize]);
-                if p.iter().any(|q| !q.ok) {
-                    st.clipped += 1;
-                    continue;
-                }
-                let c = classify(&face_areas(&p.map(|q| (q.fx, q.fy))));
-                st.class[class_index(c)] += 1;
-            }
-            st
-        })
-        .reduce(PtStats::default, |mut a, b| {
-            a.add(&b);
-            a
-        });
-    stats.fragments = fragments;
     (
         img,
         stats,
@@ -757,6 +758,17 @@ pub fn render_with(
             raster: (t3 - t1).as_secs_f64() - bin_s,
         },
     )
+}
+
+/// Counts tet `p`'s projection class (or that it takes the clipping path), once per tet.
+#[inline]
+fn count_class(st: &mut PtStats, p: &[&Projected; 4]) {
+    if p.iter().any(|q| !q.ok) {
+        st.clipped += 1;
+    } else {
+        let c = classify(&face_areas(&p.map(|q| (q.fx, q.fy))));
+        st.class[class_index(c)] += 1;
+    }
 }
 
 /// What every schedule reads.
@@ -1004,8 +1016,8 @@ fn draw_clipped(
     (frags, newly)
 }
 
-/// [`Schedule::Tiles`]: image, fragments, binning seconds.
-fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
+/// [`Schedule::Tiles`]: image, counts, binning seconds.
+fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
     let t1 = std::time::Instant::now();
     let (w, h) = (ctx.view.width as usize, ctx.view.height as usize);
     // Bin the ordered tets per tile: chunks of the order in parallel, each chunk keeping its
@@ -1013,12 +1025,14 @@ fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
     let (ntx, nty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let ntiles = ntx * nty;
     const CHUNK: usize = 1 << 15;
-    let bins: Vec<Vec<Vec<u32>>> = order
+    let binned: Vec<(Vec<Vec<u32>>, PtStats)> = order
         .par_chunks(CHUNK)
         .map(|chunk| {
             let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ntiles];
+            let mut st = PtStats::default();
             for &t in chunk {
                 let p = ctx.tets[t as usize].map(|v| &ctx.proj[v as usize]);
+                count_class(&mut st, &p);
                 let Some((x0, y0, x1, y1)) = pixel_box(ctx.view, &p, w, h) else {
                     continue;
                 };
@@ -1028,9 +1042,14 @@ fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
                     }
                 }
             }
-            lists
+            (lists, st)
         })
         .collect();
+    let mut stats = PtStats::default();
+    for (_, st) in &binned {
+        stats.add(st);
+    }
+    let bins: Vec<Vec<Vec<u32>>> = binned.into_iter().map(|b| b.0).collect();
     let bin_s = t1.elapsed().as_secs_f64();
 
     let tiles: Vec<(Vec<[f32; 4]>, u64)> = (0..ntiles)
@@ -1061,9 +1080,8 @@ fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
         })
         .collect();
     let mut img = Image::new(ctx.view.width, ctx.view.height);
-    let mut fragments = 0;
     for (ti, (buf, f)) in tiles.iter().enumerate() {
-        fragments += f;
+        stats.fragments += f;
         let (tx, ty) = (ti % ntx, ti / ntx);
         let (px0, py0) = (tx * TILE, ty * TILE);
         let tw = (TILE).min(w - px0);
@@ -1072,22 +1090,24 @@ fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
             img.pixels[y * w + px0..y * w + px0 + tw].copy_from_slice(row);
         }
     }
-    (img, fragments, bin_s)
+    (img, stats, bin_s)
 }
 
-/// [`Schedule::Chunks`]: image, fragments, seconds spent finding the chunks' screen boxes.
-fn render_chunks(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
+/// [`Schedule::Chunks`]: image, counts, seconds spent finding the chunks' screen boxes.
+fn render_chunks(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
     let t1 = std::time::Instant::now();
     let (w, h) = (ctx.view.width as usize, ctx.view.height as usize);
     let per = order.len().div_ceil(CHUNKS).max(1);
     let runs: Vec<&[u32]> = order.chunks(per).collect();
     // Each run's screen box, so a buffer covers only what its run can touch.
-    let boxes: Vec<Option<(i64, i64, i64, i64)>> = runs
+    let boxed: Vec<(Option<(i64, i64, i64, i64)>, PtStats)> = runs
         .par_iter()
         .map(|run| {
             let mut bb: Option<(i64, i64, i64, i64)> = None;
+            let mut st = PtStats::default();
             for &t in run.iter() {
                 let p = ctx.tets[t as usize].map(|v| &ctx.proj[v as usize]);
+                count_class(&mut st, &p);
                 if let Some(b) = pixel_box(ctx.view, &p, w, h) {
                     bb = Some(match bb {
                         None => b,
@@ -1095,9 +1115,14 @@ fn render_chunks(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
                     });
                 }
             }
-            bb
+            (bb, st)
         })
         .collect();
+    let mut stats = PtStats::default();
+    for (_, st) in &boxed {
+        stats.add(st);
+    }
+    let boxes: Vec<Option<(i64, i64, i64, i64)>> = boxed.iter().map(|b| b.0).collect();
     let box_s = t1.elapsed().as_secs_f64();
     let bufs: Vec<(Vec<[f32; 4]>, u64)> = runs
         .par_iter()
@@ -1139,8 +1164,8 @@ fn render_chunks(ctx: &Ctx, order: &[u32]) -> (Image, u64, f64) {
                 }
             }
         });
-    let fragments = bufs.iter().map(|b| b.1).sum();
-    (img, fragments, box_s)
+    stats.fragments = bufs.iter().map(|b| b.1).sum();
+    (img, stats, box_s)
 }
 
 #[cfg(test)]
