@@ -677,6 +677,9 @@ fn draw(
     }
 }
 
+/// Pixel box (x0, y0, x1, y1), inclusive.
+type PixelBox = (i64, i64, i64, i64);
+
 /// Pixel box (inclusive) of a tet's projection clipped to the image, if it is drawable.
 #[inline]
 fn pixel_box(view: &View, p: &[&Projected; 4], w: usize, h: usize) -> Option<(i64, i64, i64, i64)> {
@@ -1100,10 +1103,10 @@ fn render_chunks(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
     let per = order.len().div_ceil(CHUNKS).max(1);
     let runs: Vec<&[u32]> = order.chunks(per).collect();
     // Each run's screen box, so a buffer covers only what its run can touch.
-    let boxed: Vec<(Option<(i64, i64, i64, i64)>, PtStats)> = runs
+    let boxed: Vec<(Option<PixelBox>, PtStats)> = runs
         .par_iter()
         .map(|run| {
-            let mut bb: Option<(i64, i64, i64, i64)> = None;
+            let mut bb: Option<PixelBox> = None;
             let mut st = PtStats::default();
             for &t in run.iter() {
                 let p = ctx.tets[t as usize].map(|v| &ctx.proj[v as usize]);
@@ -1122,7 +1125,7 @@ fn render_chunks(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
     for (_, st) in &boxed {
         stats.add(st);
     }
-    let boxes: Vec<Option<(i64, i64, i64, i64)>> = boxed.iter().map(|b| b.0).collect();
+    let boxes: Vec<Option<PixelBox>> = boxed.iter().map(|b| b.0).collect();
     let box_s = t1.elapsed().as_secs_f64();
     let bufs: Vec<(Vec<[f32; 4]>, u64)> = runs
         .par_iter()
