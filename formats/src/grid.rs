@@ -233,6 +233,27 @@ impl ArrayData {
         })
     }
 
+    /// The values' bytes in their own type, little endian whatever the machine (strings as for
+    /// [`ArrayData::native_bytes`]): what checksums over files written on any machine compare.
+    pub fn le_bytes(&self) -> Vec<u8> {
+        fn le<T: Copy, const N: usize>(v: &[T], f: impl Fn(T) -> [u8; N]) -> Vec<u8> {
+            v.iter().flat_map(|&x| f(x)).collect()
+        }
+        match self {
+            ArrayData::Int8(v) => le(v, i8::to_le_bytes),
+            ArrayData::UInt8(v) => v.clone(),
+            ArrayData::Int16(v) => le(v, i16::to_le_bytes),
+            ArrayData::UInt16(v) => le(v, u16::to_le_bytes),
+            ArrayData::Int32(v) => le(v, i32::to_le_bytes),
+            ArrayData::UInt32(v) => le(v, u32::to_le_bytes),
+            ArrayData::Int64(v) => le(v, i64::to_le_bytes),
+            ArrayData::UInt64(v) => le(v, u64::to_le_bytes),
+            ArrayData::Float32(v) => le(v, f32::to_le_bytes),
+            ArrayData::Float64(v) => le(v, f64::to_le_bytes),
+            ArrayData::String(_) => self.native_bytes(),
+        }
+    }
+
     /// Bit-exact equality: NaN equals NaN with the same bits, -0.0 differs from 0.0.
     pub fn bit_eq(&self, other: &ArrayData) -> bool {
         self.scalar_type() == other.scalar_type()

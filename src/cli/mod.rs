@@ -9,6 +9,7 @@ mod info;
 mod partition;
 mod probe;
 mod render;
+mod render_device;
 mod render_scene;
 mod sort;
 mod tradeoff;

@@ -193,7 +193,7 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
             match r {
                 None => {
                     row.push(String::new());
-                    row.extend(std::iter::repeat(String::new()).take(widths.iter().sum()));
+                    row.extend(std::iter::repeat_n(String::new(), widths.iter().sum()));
                 }
                 Some((t, vals)) => {
                     row.push(t.to_string());

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::camera_args::CameraArgs;
+use super::render_device::{gpu_frames, open_gpu, DeviceChoice, GpuFrames};
 use crate::camera::Camera;
 use crate::locate::{GridParams, Topology};
 use crate::mesh::TetMesh;
@@ -162,6 +163,10 @@ pub struct RenderArgs {
     /// Degrees between orbit frames (default 360/N).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub orbit_step: Option<f64>,
+    /// Where PT runs: cpu, gpu (wgpu; an error without an adapter) or auto (the GPU when an
+    /// adapter is found, else the CPU).
+    #[arg(long, value_enum, default_value = "cpu")]
+    pub device: DeviceChoice,
     /// Scene file (TOML): cutting bodies and per-region transfer functions, and optionally the
     /// camera and default transfer function (command-line options override the scene's).
     #[arg(long, value_name = "SCENE.toml")]
@@ -411,6 +416,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     // Bodies take their own path; a scene without bodies renders exactly as no scene.
     if let Some(s) = scene.as_ref().filter(|s| !s.bodies.is_empty()) {
+        super::render_device::scene_on_cpu(args.device, s.bodies.len())?;
         return super::render_scene::run(args, &session, s, cam0, step, progress);
     }
     let mut frame_times = Vec::new();
@@ -426,9 +432,35 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             let t_table = Instant::now();
             let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
             let table_s = t_table.elapsed().as_secs_f64();
+            let m = &session.mesh;
+            let mut gpu = open_gpu(
+                args.device,
+                &m.points,
+                &m.tets,
+                &session.field,
+                &shader,
+                look.quiet,
+            )?;
             let setup = t_setup.elapsed().as_secs_f64();
             progress.step("setup");
-            for i in 0..frames {
+            if let Some(gpu) = gpu.as_mut() {
+                let job = GpuFrames {
+                    sorter: sorter.as_ref(),
+                    ntets: m.tets.len(),
+                    sort: args.sort,
+                    cam0,
+                    step,
+                    frames,
+                    size: (w, h),
+                    background: look.background,
+                };
+                let path = |i| frame_path(&args.output, i, frames);
+                let (lines, times) = gpu_frames(gpu, &job, path, || progress.step("frame"))?;
+                summary.extend(lines);
+                frame_times.extend(times);
+            }
+            let cpu_frames = if gpu.is_some() { 0 } else { frames };
+            for i in 0..cpu_frames {
                 let mut cam = cam0;
                 cam.azimuth(step * i as f64);
                 let t = Instant::now();
@@ -455,6 +487,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             );
         }
         MethodChoice::Raycast => {
+            if args.device == DeviceChoice::Gpu {
+                bail!("--method raycast runs on the CPU only (--device gpu draws projected tetrahedra)");
+            }
             let topo = Topology::build(&session.mesh.tets);
             let rc = RayCaster::new(
                 &session.mesh.points,

@@ -207,7 +207,7 @@ impl BoundaryIndex {
                         continue;
                     }
                     if let Some(t) = entry_hit(points, &tets[tet as usize], face, o, d) {
-                        if t >= after && best.map_or(true, |b| t < b.t) {
+                        if t >= after && best.is_none_or(|b| t < b.t) {
                             best = Some(Hit { t, tet, face });
                         }
                     }

@@ -550,7 +550,7 @@ impl Build {
         let leaf_ids: Vec<i32> = leaf_nodes
             .iter()
             .enumerate()
-            .flat_map(|(l, &i)| std::iter::repeat(l as i32).take(self.nodes[i].tets.len()))
+            .flat_map(|(l, &i)| std::iter::repeat_n(l as i32, self.nodes[i].tets.len()))
             .collect();
         let out_tets: Vec<[u32; 4]> = order.iter().map(|&t| self.tets[t as usize]).collect();
         let original: Vec<u32> = order.iter().map(|&t| self.original[t as usize]).collect();

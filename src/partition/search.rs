@@ -171,7 +171,7 @@ pub fn cost_positions(coords: &[f64], n: usize) -> Vec<f64> {
             if let Some(m) = gap_mid(a, b, MIN_GAP * (hi - lo)) {
                 if (wlo..=whi).contains(&m) {
                     let key = (b - a, -(m - x).abs(), m);
-                    if best.map_or(true, |bk| (key.0, key.1) > (bk.0, bk.1)) {
+                    if best.is_none_or(|bk| (key.0, key.1) > (bk.0, bk.1)) {
                         best = Some(key);
                     }
                 }
@@ -332,7 +332,7 @@ pub fn choose_plane(
                     .find(|c| c.alpha() < params.eps && two_sided(c));
                 if let Some(c) = found {
                     // Step 5: of the qualifying planes of x, y and z take the smallest beta.
-                    if best.map_or(true, |b| (c.pieces, c.alpha()) < (b.pieces, b.alpha())) {
+                    if best.is_none_or(|b| (c.pieces, c.alpha()) < (b.pieces, b.alpha())) {
                         best = Some(c);
                     }
                 }

@@ -5,6 +5,7 @@
 
 pub mod cut;
 pub mod field;
+pub mod gpu;
 pub mod image;
 pub mod integrate;
 pub mod plot;

@@ -430,7 +430,12 @@ pub(crate) fn setup_tet(
             continue;
         };
         let pl = pl.map(|x| x as f32);
-        if (d[i] > 0) == (big_pos == big_front) {
+        // Front or back by the unsnapped projection the plane was fitted to: a face seen nearly
+        // edge-on can change sign on the fixed-point grid, and a flipped steep plane would cut
+        // the whole tet away.
+        let (a, b, c) = (pts[0], pts[1], pts[2]);
+        let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+        if (area > 0.0) == (big_pos == big_front) {
             front[nf] = pl;
             nf += 1;
         } else {
@@ -1296,6 +1301,33 @@ mod tests {
             32,
         );
         assert_eq!(st.class[4], 1);
+    }
+
+    #[test]
+    fn face_flipped_by_snapping_keeps_its_tet() {
+        // Face [0, 3, 2] is seen nearly edge-on: its projected area is +282 (1/256 px)^2 unsnapped
+        // but -1023 on the fixed-point grid. From a Gmsh mesh (fixtures/gmsh/cavity.vtk, tet 420).
+        let pts = vec![
+            [0.8588713258240279, 0.0, 0.2507062282134793],
+            [1.0, 0.1220084679281462, 0.1220084679281462],
+            [0.8779915320718535, 0.0, 0.1220084679281463],
+            [0.7853681295419649, 0.2159403721809315, 0.2454360734388493],
+        ];
+        let c = [0.5, 0.5, 0.5];
+        let d = 3f64.sqrt();
+        let cam = Camera {
+            position: [c[0] - 0.4 * d, c[1] + 0.3 * d, c[2] + 2.0 * d],
+            focal: c,
+            up: [0.0, 1.0, 0.0],
+            parallel: true,
+            parallel_scale: 0.6 * d,
+            ..Camera::default()
+        };
+        let proj = project_points(&View::new(&cam, 64, 64), &pts);
+        let d = face_areas(&[0, 1, 2, 3].map(|k| (proj[k].fx, proj[k].fy)));
+        assert!(d[1] < 0, "the snapped face must flip for this test: {d:?}");
+        let (err, _) = compare(&pts, &[[0, 1, 2, 3]], &[0.2, 0.9, 0.4, 0.7], &cam, 64);
+        assert!(err < 0.01, "error {err}");
     }
 
     #[test]

@@ -93,7 +93,7 @@ impl<'a> RayCaster<'a> {
                 continue;
             }
             let tf = -oa / dn;
-            if tf.is_finite() && best.map_or(true, |b| tf < b.0) {
+            if tf.is_finite() && best.is_none_or(|b| tf < b.0) {
                 best = Some((tf, f as u8));
             }
         }

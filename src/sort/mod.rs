@@ -60,6 +60,8 @@ pub struct SortStats {
     /// Pairs of boundary faces that needed the big-integer test (reaching behind the eye, or
     /// neither face's plane separating them).
     pub exact_fallbacks: usize,
+    /// Seconds spent finding the extra constraints (included in `seconds`).
+    pub extra_seconds: f64,
     pub nonconvex_leaves: usize,
     /// Visibility cycles (strongly connected components) broken.
     pub cycles: usize,
@@ -300,6 +302,7 @@ impl<'m> Sorter<'m> {
         };
         let leaf_of: Vec<u32> = if kd { self.leaf_of.clone() } else { vec![0; n] };
         // Dependencies adjacency misses: boundary faces of non-convex leaves overlapping on screen.
+        let t_extra = Instant::now();
         let (mut extra, exact_fallbacks): (Vec<(u32, u32)>, usize) = if kd {
             let per_leaf: Vec<(Vec<(u32, u32)>, usize)> = self
                 .leaf_boundary
@@ -314,6 +317,7 @@ impl<'m> Sorter<'m> {
         };
         extra.par_sort_unstable();
         extra.dedup();
+        let extra_seconds = t_extra.elapsed().as_secs_f64();
         let (extra_off, extra_to) = if extra.is_empty() {
             (Vec::new(), Vec::new())
         } else {
@@ -388,6 +392,7 @@ impl<'m> Sorter<'m> {
             face_constraints,
             extra_constraints: extra.len(),
             exact_fallbacks,
+            extra_seconds,
             nonconvex_leaves: if kd { self.nonconvex_leaves() } else { 0 },
             ..Default::default()
         };

@@ -23,7 +23,8 @@ use crate::mesh::TetMesh;
 
 const EPS: f64 = f64::EPSILON;
 
-/// The boundary faces of one leaf that is not convex, outward-oriented.
+/// The boundary faces of one leaf that is not convex, outward-oriented (those that can order
+/// anything: see [`LeafBoundary::build`]).
 pub struct LeafBoundary {
     /// Tet owning each face.
     pub tet: Vec<u32>,
@@ -32,9 +33,12 @@ pub struct LeafBoundary {
 }
 
 impl LeafBoundary {
-    /// The leaf's boundary faces, or `None` when the leaf's tets form a convex region: one
-    /// connected, closed, edge-manifold boundary with no reflex edge (a closed, connected, locally
-    /// convex surface bounds a convex body), decided with exact orientation tests.
+    /// The leaf's boundary faces that can order anything, or `None` when the leaf's tets form a
+    /// convex region: one connected, closed, edge-manifold boundary with no reflex edge (a
+    /// closed, connected, locally convex surface bounds a convex body), decided with exact
+    /// orientation tests. Faces lying in a plane of the leaf's bounding box are left out: the
+    /// whole leaf is on one side of that plane, so a ray leaving through such a face never comes
+    /// back, and one entering through it was never inside before (exact float comparisons).
     pub fn build(
         mesh: &TetMesh,
         adj: &Adjacency,
@@ -59,7 +63,22 @@ impl LeafBoundary {
         if tri.is_empty() || is_convex(&mesh.points, &tri) {
             return None;
         }
-        Some(LeafBoundary { tet, tri })
+        let pts = &mesh.points;
+        let bounds = crate::geom::Aabb::of_points(
+            tets.iter()
+                .flat_map(|&t| mesh.tets[t as usize].iter().map(|&v| &pts[v as usize])),
+        );
+        let on_box = |f: &[u32; 3]| {
+            (0..3).any(|k| {
+                let c = f.map(|v| pts[v as usize][k]);
+                (c[0] == c[1] && c[1] == c[2]) && (c[0] == bounds.min[k] || c[0] == bounds.max[k])
+            })
+        };
+        let keep: Vec<usize> = (0..tri.len()).filter(|&k| !on_box(&tri[k])).collect();
+        Some(LeafBoundary {
+            tet: keep.iter().map(|&k| tet[k]).collect(),
+            tri: keep.iter().map(|&k| tri[k]).collect(),
+        })
     }
 
     pub fn len(&self) -> usize {

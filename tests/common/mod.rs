@@ -348,26 +348,6 @@ pub fn crc32(bytes: &[u8]) -> u32 {
     !c
 }
 
-/// The values' bytes in their own type, little endian (what vtk_check.py hashes).
-fn le_bytes(data: &ArrayData) -> Vec<u8> {
-    fn le<T: Copy, const N: usize>(v: &[T], f: impl Fn(T) -> [u8; N]) -> Vec<u8> {
-        v.iter().flat_map(|&x| f(x)).collect()
-    }
-    match data {
-        ArrayData::Int8(v) => le(v, i8::to_le_bytes),
-        ArrayData::UInt8(v) => v.clone(),
-        ArrayData::Int16(v) => le(v, i16::to_le_bytes),
-        ArrayData::UInt16(v) => le(v, u16::to_le_bytes),
-        ArrayData::Int32(v) => le(v, i32::to_le_bytes),
-        ArrayData::UInt32(v) => le(v, u32::to_le_bytes),
-        ArrayData::Int64(v) => le(v, i64::to_le_bytes),
-        ArrayData::UInt64(v) => le(v, u64::to_le_bytes),
-        ArrayData::Float32(v) => le(v, f32::to_le_bytes),
-        ArrayData::Float64(v) => le(v, f64::to_le_bytes),
-        ArrayData::String(_) => data.native_bytes(),
-    }
-}
-
 /// Exact integer sum of an integer array, as a decimal string; `None` for floats and strings.
 fn int_sum(data: &ArrayData) -> Option<String> {
     fn s<T: Copy + Into<i128>>(v: &[T]) -> String {
@@ -396,7 +376,7 @@ pub fn array_summary(a: &DataArray) -> Value {
         "component_names": a.component_names,
         "tuples": a.tuples(),
         "values": a.data.len(),
-        "crc32": crc32(&le_bytes(&a.data)),
+        "crc32": crc32(&a.data.le_bytes()),
     });
     if let Some(s) = int_sum(&a.data) {
         v["sum"] = json!(s);

@@ -26,23 +26,11 @@ pub fn csum_bytes(b: &[u8]) -> u64 {
     s
 }
 
-/// Little-endian bytes of a numeric array.
+/// Little-endian bytes of a numeric array (none for strings: the manifest sums numbers only).
 pub fn le_bytes(d: &ArrayData) -> Vec<u8> {
-    fn le<T: Copy, const N: usize>(v: &[T], f: impl Fn(T) -> [u8; N]) -> Vec<u8> {
-        v.iter().flat_map(|&x| f(x)).collect()
-    }
     match d {
-        ArrayData::Int8(v) => le(v, i8::to_le_bytes),
-        ArrayData::UInt8(v) => v.clone(),
-        ArrayData::Int16(v) => le(v, i16::to_le_bytes),
-        ArrayData::UInt16(v) => le(v, u16::to_le_bytes),
-        ArrayData::Int32(v) => le(v, i32::to_le_bytes),
-        ArrayData::UInt32(v) => le(v, u32::to_le_bytes),
-        ArrayData::Int64(v) => le(v, i64::to_le_bytes),
-        ArrayData::UInt64(v) => le(v, u64::to_le_bytes),
-        ArrayData::Float32(v) => le(v, f32::to_le_bytes),
-        ArrayData::Float64(v) => le(v, f64::to_le_bytes),
         ArrayData::String(_) => Vec::new(),
+        _ => d.le_bytes(),
     }
 }
 

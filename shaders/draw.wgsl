@@ -1,0 +1,161 @@
+// Projected tetrahedra, stage 3: rasterize the fan triangles and shade each fragment from its
+// (Sf, Sb, l), recovered from the homogeneous per-vertex attributes written by classify.wgsl.
+// Blending (set on the pipeline) is premultiplied 'over' in front-to-back order:
+// dst = dst + (1 - dst.a) src, the CPU path's compositing step.
+
+struct Frame {
+    eye: vec4<f32>,
+    r: vec4<f32>,
+    u: vec4<f32>,
+    f: vec4<f32>,
+    size: vec4<f32>,
+    flags: vec4<u32>,
+}
+
+struct Shade {
+    // mode (0 average, 1 linear, 2 preintegrated), node or table scalar count, table length
+    // count, unused
+    mode: vec4<u32>,
+    // scalar origin, 1 / scalar step, 1 / length step (table), last node index (transfer function)
+    lut: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> fr: Frame;
+@group(0) @binding(1) var<uniform> sh: Shade;
+// Pre-integration table: x = Sf, y = Sb, z = l.
+@group(0) @binding(2) var table: texture_3d<f32>;
+// Transfer-function nodes: r, g, b, extinction.
+@group(0) @binding(3) var<storage, read> nodes: array<vec4<f32>>;
+
+struct VOut {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) @interpolate(linear) h: vec4<f32>,
+}
+
+@vertex
+fn vs(@location(0) p: vec2<f32>, @location(1) h: vec4<f32>) -> VOut {
+    var o: VOut;
+    o.pos = vec4<f32>(p, 0.5, 1.0);
+    o.h = h;
+    return o;
+}
+
+fn tf_eval(s: f32) -> vec4<f32> {
+    let x = clamp((s - sh.lut.x) * sh.lut.y, 0.0, sh.lut.w);
+    let i = min(u32(x), sh.mode.y - 2u);
+    let t = x - f32(i);
+    let a = nodes[i];
+    let b = nodes[i + 1u];
+    return a + t * (b - a);
+}
+
+fn average(sf: f32, sb: f32, l: f32) -> vec4<f32> {
+    let a = tf_eval(sf);
+    let b = tf_eval(sb);
+    let alpha = 1.0 - exp(-0.5 * (a.w + b.w) * l);
+    let h = 0.5 * alpha;
+    return vec4<f32>((a.xyz + b.xyz) * h, alpha);
+}
+
+// int_0^1 exp(-(p u + q u^2)) du by composite 4-point Gauss-Legendre on pieces of optical depth
+// <= 0.5, stopping where the depth passes 40 (as integrate::depth_integral, in f32).
+fn depth_integral(p: f32, q: f32) -> f32 {
+    let t1 = p + q;
+    if (!(t1 > 1e-30)) {
+        return 1.0;
+    }
+    var umax = 1.0;
+    if (t1 > 40.0) {
+        let disc = max(p * p + 160.0 * q, 0.0);
+        umax = clamp(80.0 / (p + sqrt(disc)), 0.0, 1.0);
+    }
+    let slope = max(max(p, p + 2.0 * q * umax), 0.0);
+    let m = u32(clamp(ceil(slope * umax / 0.5), 1.0, 400.0));
+    let hh = umax / f32(m);
+    let gx = vec4<f32>(0.06943184420297371, 0.3300094782075719, 0.6699905217924281, 0.9305681557970263);
+    let gw = vec4<f32>(0.1739274225687269, 0.3260725774312731, 0.3260725774312731, 0.1739274225687269);
+    var sum = 0.0;
+    for (var k = 0u; k < m; k++) {
+        let a = f32(k) * hh;
+        let u = a + gx * hh;
+        sum += dot(gw, exp(-(u * (p + q * u))));
+    }
+    return sum * hh;
+}
+
+fn linear(sf: f32, sb: f32, l: f32) -> vec4<f32> {
+    let a = tf_eval(sf);
+    let b = tf_eval(sb);
+    let p = l * a.w;
+    let q = 0.5 * l * (b.w - a.w);
+    let trans = exp(-(p + q));
+    var i = 0.0;
+    if (any(a.xyz != b.xyz)) {
+        i = depth_integral(p, q);
+    }
+    return vec4<f32>(a.xyz - b.xyz * trans + (b.xyz - a.xyz) * i, 1.0 - trans);
+}
+
+// Trilinear lookup with the CPU table's index arithmetic (PreintTable::lookup).
+fn preintegrated(sf: f32, sb: f32, l: f32) -> vec4<f32> {
+    let ns = sh.mode.y;
+    let nl = sh.mode.z;
+    let top = f32(ns - 1u);
+    let xf = clamp((sf - sh.lut.x) * sh.lut.y, 0.0, top);
+    let xb = clamp((sb - sh.lut.x) * sh.lut.y, 0.0, top);
+    let xl = clamp(l * sh.lut.z, 0.0, f32(nl - 1u));
+    let i = min(u32(xf), ns - 2u);
+    let j = min(u32(xb), ns - 2u);
+    let k = min(u32(xl), nl - 2u);
+    let tf = xf - f32(i);
+    let tb = xb - f32(j);
+    let tl = xl - f32(k);
+    var pl: array<vec4<f32>, 2>;
+    for (var dz = 0u; dz < 2u; dz++) {
+        let z = i32(k + dz);
+        let c00 = textureLoad(table, vec3<i32>(i32(i), i32(j), z), 0);
+        let c10 = textureLoad(table, vec3<i32>(i32(i + 1u), i32(j), z), 0);
+        let c01 = textureLoad(table, vec3<i32>(i32(i), i32(j + 1u), z), 0);
+        let c11 = textureLoad(table, vec3<i32>(i32(i + 1u), i32(j + 1u), z), 0);
+        let r0 = c00 + tf * (c10 - c00);
+        let r1 = c01 + tf * (c11 - c01);
+        pl[dz] = r0 + tb * (r1 - r0);
+    }
+    return pl[0] + tl * (pl[1] - pl[0]);
+}
+
+@fragment
+fn fs(in: VOut) -> @location(0) vec4<f32> {
+    let h = in.h;
+    var zf: f32;
+    var zb: f32;
+    var sf: f32;
+    var sb: f32;
+    var stretch = 1.0;
+    if (fr.flags.y != 0u) {
+        zf = h.x;
+        sf = h.y;
+        zb = h.z;
+        sb = h.w;
+    } else {
+        zf = 1.0 / h.x;
+        sf = h.y * zf;
+        zb = 1.0 / h.z;
+        sb = h.w * zb;
+        let xs = (2.0 * in.pos.x / fr.size.x - 1.0) * fr.size.w;
+        let ys = 1.0 - 2.0 * in.pos.y / fr.size.y;
+        let a = fr.size.z * xs;
+        let b = fr.size.z * ys;
+        stretch = sqrt(1.0 + a * a + b * b);
+    }
+    var l = max((zb - zf) * stretch, 0.0);
+    if (!(l <= 3.4e38)) {
+        l = 0.0;
+    }
+    if (sh.mode.x == 0u) {
+        return average(sf, sb, l);
+    } else if (sh.mode.x == 1u) {
+        return linear(sf, sb, l);
+    }
+    return preintegrated(sf, sb, l);
+}
