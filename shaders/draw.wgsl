@@ -13,19 +13,25 @@ struct Frame {
 }
 
 struct Shade {
-    // mode (0 average, 1 linear, 2 preintegrated), node or table scalar count, table length
-    // count, unused
+    // mode (0 average, 1 linear, 2 preintegrated), nodes per function or table scalar count,
+    // table length count, unused
     mode: vec4<u32>,
-    // scalar origin, 1 / scalar step, 1 / length step (table), last node index (transfer function)
-    lut: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> fr: Frame;
 @group(0) @binding(1) var<uniform> sh: Shade;
-// Pre-integration table: x = Sf, y = Sb, z = l.
+// Pre-integration tables, stacked along z: x = Sf, y = Sb, z = l + table * nl.
 @group(0) @binding(2) var table: texture_3d<f32>;
-// Transfer-function nodes: r, g, b, extinction.
+// Transfer-function nodes (r, g, b, extinction), stacked per function.
 @group(0) @binding(3) var<storage, read> nodes: array<vec4<f32>>;
+// Per stacked function: scalar origin, 1 / scalar step, 1 / length step, last node index.
+@group(0) @binding(4) var<storage, read> luts: array<vec4<f32>>;
+// Scenes only. Layer 0: (crossing count, start code); layer i: (view depth, code after it).
+@group(0) @binding(5) var crossings: texture_2d_array<f32>;
+// Scenes only: stacked function of each region code, or 0xffffffff where it is cut.
+@group(0) @binding(6) var<storage, read> slots: array<u32>;
+
+const CUT: u32 = 0xffffffffu;
 
 struct VOut {
     @builtin(position) pos: vec4<f32>,
@@ -40,18 +46,20 @@ fn vs(@location(0) p: vec2<f32>, @location(1) h: vec4<f32>) -> VOut {
     return o;
 }
 
-fn tf_eval(s: f32) -> vec4<f32> {
-    let x = clamp((s - sh.lut.x) * sh.lut.y, 0.0, sh.lut.w);
-    let i = min(u32(x), sh.mode.y - 2u);
+fn tf_eval(s: f32, k: u32) -> vec4<f32> {
+    let lut = luts[k];
+    let x = clamp((s - lut.x) * lut.y, 0.0, lut.w);
+    let n = sh.mode.y;
+    let i = min(u32(x), n - 2u);
     let t = x - f32(i);
-    let a = nodes[i];
-    let b = nodes[i + 1u];
+    let a = nodes[k * n + i];
+    let b = nodes[k * n + i + 1u];
     return a + t * (b - a);
 }
 
-fn average(sf: f32, sb: f32, l: f32) -> vec4<f32> {
-    let a = tf_eval(sf);
-    let b = tf_eval(sb);
+fn average(sf: f32, sb: f32, l: f32, k: u32) -> vec4<f32> {
+    let a = tf_eval(sf, k);
+    let b = tf_eval(sb, k);
     let alpha = 1.0 - exp(-0.5 * (a.w + b.w) * l);
     let h = 0.5 * alpha;
     return vec4<f32>((a.xyz + b.xyz) * h, alpha);
@@ -83,9 +91,9 @@ fn depth_integral(p: f32, q: f32) -> f32 {
     return sum * hh;
 }
 
-fn linear(sf: f32, sb: f32, l: f32) -> vec4<f32> {
-    let a = tf_eval(sf);
-    let b = tf_eval(sb);
+fn linear(sf: f32, sb: f32, l: f32, k: u32) -> vec4<f32> {
+    let a = tf_eval(sf, k);
+    let b = tf_eval(sb, k);
     let p = l * a.w;
     let q = 0.5 * l * (b.w - a.w);
     let trans = exp(-(p + q));
@@ -97,22 +105,23 @@ fn linear(sf: f32, sb: f32, l: f32) -> vec4<f32> {
 }
 
 // Trilinear lookup with the CPU table's index arithmetic (PreintTable::lookup).
-fn preintegrated(sf: f32, sb: f32, l: f32) -> vec4<f32> {
+fn preintegrated(sf: f32, sb: f32, l: f32, k: u32) -> vec4<f32> {
+    let lut = luts[k];
     let ns = sh.mode.y;
     let nl = sh.mode.z;
     let top = f32(ns - 1u);
-    let xf = clamp((sf - sh.lut.x) * sh.lut.y, 0.0, top);
-    let xb = clamp((sb - sh.lut.x) * sh.lut.y, 0.0, top);
-    let xl = clamp(l * sh.lut.z, 0.0, f32(nl - 1u));
+    let xf = clamp((sf - lut.x) * lut.y, 0.0, top);
+    let xb = clamp((sb - lut.x) * lut.y, 0.0, top);
+    let xl = clamp(l * lut.z, 0.0, f32(nl - 1u));
     let i = min(u32(xf), ns - 2u);
     let j = min(u32(xb), ns - 2u);
-    let k = min(u32(xl), nl - 2u);
+    let kl = min(u32(xl), nl - 2u);
     let tf = xf - f32(i);
     let tb = xb - f32(j);
-    let tl = xl - f32(k);
+    let tl = xl - f32(kl);
     var pl: array<vec4<f32>, 2>;
     for (var dz = 0u; dz < 2u; dz++) {
-        let z = i32(k + dz);
+        let z = i32(k * nl + kl + dz);
         let c00 = textureLoad(table, vec3<i32>(i32(i), i32(j), z), 0);
         let c10 = textureLoad(table, vec3<i32>(i32(i + 1u), i32(j), z), 0);
         let c01 = textureLoad(table, vec3<i32>(i32(i), i32(j + 1u), z), 0);
@@ -124,38 +133,112 @@ fn preintegrated(sf: f32, sb: f32, l: f32) -> vec4<f32> {
     return pl[0] + tl * (pl[1] - pl[0]);
 }
 
-@fragment
-fn fs(in: VOut) -> @location(0) vec4<f32> {
+fn shade(sf: f32, sb: f32, l: f32, k: u32) -> vec4<f32> {
+    if (sh.mode.x == 0u) {
+        return average(sf, sb, l, k);
+    } else if (sh.mode.x == 1u) {
+        return linear(sf, sb, l, k);
+    }
+    return preintegrated(sf, sb, l, k);
+}
+
+// A fragment's entry and exit view depths, scalars and the world length per unit of depth.
+struct Span {
+    zf: f32,
+    zb: f32,
+    sf: f32,
+    sb: f32,
+    stretch: f32,
+}
+
+fn span(in: VOut) -> Span {
     let h = in.h;
-    var zf: f32;
-    var zb: f32;
-    var sf: f32;
-    var sb: f32;
-    var stretch = 1.0;
+    var o: Span;
+    o.stretch = 1.0;
     if (fr.flags.y != 0u) {
-        zf = h.x;
-        sf = h.y;
-        zb = h.z;
-        sb = h.w;
+        o.zf = h.x;
+        o.sf = h.y;
+        o.zb = h.z;
+        o.sb = h.w;
     } else {
-        zf = 1.0 / h.x;
-        sf = h.y * zf;
-        zb = 1.0 / h.z;
-        sb = h.w * zb;
+        o.zf = 1.0 / h.x;
+        o.sf = h.y * o.zf;
+        o.zb = 1.0 / h.z;
+        o.sb = h.w * o.zb;
         let xs = (2.0 * in.pos.x / fr.size.x - 1.0) * fr.size.w;
         let ys = 1.0 - 2.0 * in.pos.y / fr.size.y;
         let a = fr.size.z * xs;
         let b = fr.size.z * ys;
-        stretch = sqrt(1.0 + a * a + b * b);
+        o.stretch = sqrt(1.0 + a * a + b * b);
     }
-    var l = max((zb - zf) * stretch, 0.0);
+    return o;
+}
+
+@fragment
+fn fs(in: VOut) -> @location(0) vec4<f32> {
+    let sp = span(in);
+    var l = max((sp.zb - sp.zf) * sp.stretch, 0.0);
     if (!(l <= 3.4e38)) {
         l = 0.0;
     }
-    if (sh.mode.x == 0u) {
-        return average(sf, sb, l);
-    } else if (sh.mode.x == 1u) {
-        return linear(sf, sb, l);
+    return shade(sp.sf, sp.sb, l, 0u);
+}
+
+// With scene bodies: the fragment's segment is split where the pixel's ray crosses a body, each
+// piece shaded with its region's function (nothing where cut) and the pieces composited front to
+// back; a crossing between codes of one function splits nothing (as render::cut).
+@fragment
+fn fs_scene(in: VOut) -> @location(0) vec4<f32> {
+    let sp = span(in);
+    let zf = sp.zf;
+    let zb = sp.zb;
+    if (!(zb > zf) || !(abs(zf) <= 3.4e38) || !(abs(zb) <= 3.4e38)) {
+        return vec4<f32>(0.0);
     }
-    return preintegrated(sf, sb, l);
+    let p = vec2<i32>(in.pos.xy);
+    let head = textureLoad(crossings, p, 0, 0).xy;
+    let n = i32(head.x);
+    var code = u32(head.y);
+    var i = 1;
+    while (i <= n) {
+        let c = textureLoad(crossings, p, i, 0).xy;
+        if (!(c.x <= zf)) {
+            break;
+        }
+        code = u32(c.y);
+        i++;
+    }
+    var cur = slots[code];
+    var a = zf;
+    var acc = vec4<f32>(0.0);
+    let ds = (sp.sb - sp.sf) / (zb - zf);
+    loop {
+        var b = zb;
+        var next = cur;
+        var more = false;
+        while (i <= n) {
+            let c = textureLoad(crossings, p, i, 0).xy;
+            if (!(c.x < zb)) {
+                break;
+            }
+            i++;
+            let k = slots[u32(c.y)];
+            if (k != cur) {
+                b = max(c.x, a);
+                next = k;
+                more = true;
+                break;
+            }
+        }
+        if (cur != CUT && b > a) {
+            let c = shade(sp.sf + (a - zf) * ds, sp.sf + (b - zf) * ds, (b - a) * sp.stretch, cur);
+            acc += (1.0 - acc.w) * c;
+        }
+        if (!more) {
+            break;
+        }
+        a = b;
+        cur = next;
+    }
+    return acc;
 }

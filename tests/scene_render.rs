@@ -3,6 +3,8 @@
 //! caster with the same scene), touching bodies, an eye inside a body, a body outside the mesh,
 //! a tessellated sphere converging to the analytic one, and the CLI.
 
+mod common;
+
 use std::path::Path;
 
 use tetkit::camera::Camera;
@@ -379,8 +381,8 @@ fn touching_bodies_neither_leave_gaps_nor_count_twice() {
     assert!(d < 1e-6, "touching cuts: {d}");
 }
 
-/// A UV sphere with `n` segments around and `n / 2` rings, outward triangles, as OBJ.
-fn uv_sphere_obj(path: &Path, c: [f64; 3], r: f64, n: usize) {
+/// A UV sphere with `n` segments around and `n / 2` rings, outward triangles, as ASCII STL.
+fn uv_sphere_stl(path: &Path, c: [f64; 3], r: f64, n: usize) {
     let rings = n / 2;
     let mut pts = vec![[c[0], c[1], c[2] + r]];
     for i in 1..rings {
@@ -408,13 +410,18 @@ fn uv_sphere_obj(path: &Path, c: [f64; 3], r: f64, n: usize) {
             tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
     }
-    let mut text = String::new();
-    for p in &pts {
-        text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
-    }
+    // ASCII STL: every triangle repeats its corners (the reader welds them; `{}` prints each
+    // coordinate so it reads back exactly).
+    let mut text = String::from("solid sphere\n");
     for t in &tris {
-        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        text += " facet normal 0 0 0\n  outer loop\n";
+        for &v in t {
+            let p = pts[v];
+            text += &format!("   vertex {} {} {}\n", p[0], p[1], p[2]);
+        }
+        text += "  endloop\n endfacet\n";
     }
+    text += "endsolid sphere\n";
     std::fs::write(path, text).unwrap();
 }
 
@@ -439,10 +446,10 @@ fn a_tessellated_sphere_converges_to_the_analytic_sphere() {
     let mut prev_rc = f64::INFINITY;
     let mut prev_pt = f64::INFINITY;
     for k in [8, 16, 32, 64] {
-        let f = dir.path().join(format!("s{k}.obj"));
-        uv_sphere_obj(&f, [0.5, 0.5, 0.5], 0.4, k);
+        let f = dir.path().join(format!("s{k}.stl"));
+        uv_sphere_stl(&f, [0.5, 0.5, 0.5], 0.4, k);
         let s = scene_of(
-            &body(&format!("shape = \"surface\"\nfile = \"s{k}.obj\"")),
+            &body(&format!("shape = \"surface\"\nfile = \"s{k}.stl\"")),
             dir.path(),
         );
         let (rs, _) = c.raycast(Some(&s), &cam, n);
@@ -604,4 +611,143 @@ fn cli_empty_scene_is_no_scene_and_bodies_report_their_codes() {
     assert!(!ok);
     assert!(err.contains("bad.toml") && err.contains("line 5"), "{err}");
     assert!(!out.exists());
+    // A body's transfer function that cannot be built names the body's line.
+    std::fs::write(
+        &bad,
+        "# a scene\n\n[[body]]\nshape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.3\naction = \"transfer\"\n[body.transfer]\ncolormap = \"no-such-map\"\n",
+    )
+    .unwrap();
+    let (ok, _, err) = tetkit_cli(&[
+        "render",
+        &mesh,
+        "--scene",
+        bad.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("bad.toml: line 3") && err.contains("no-such-map"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_vtk_cube_surface_through_mesh_vertices_cuts_like_the_box_and_like_deleting_tets() {
+    // The fixture mesh has vertices every 0.25; VTK's cube [0.25, 0.75]^3 (an STL) has its faces
+    // on mesh faces, through mesh vertices and edges.
+    let grid = formats::read(Path::new(&fixture("scenes/cube_mesh.vtk"))).unwrap();
+    let (mut m, _, _) = tetkit::partition::input::tets_of(&grid, "cube_mesh").unwrap();
+    // Scalars to [0, 1] for the test transfer function.
+    let s: Vec<f64> = m
+        .points
+        .iter()
+        .map(|p| (p[0] + 2.0 * p[1] + 3.0 * p[2]) / 6.0)
+        .collect();
+    m.point_data = Default::default();
+    m.point_data.insert(formats::DataArray::new(
+        "scalar",
+        1,
+        formats::ArrayData::Float64(s),
+    ));
+    m.cell_data = Default::default();
+    let inside = |t: &[u32; 4]| {
+        let c = [0, 1, 2].map(|k| t.iter().map(|&v| m.points[v as usize][k]).sum::<f64>() / 4.0);
+        c.iter().all(|&x| x > 0.25 && x < 0.75)
+    };
+    let mut hollow = m.clone();
+    hollow.tets.retain(|t| !inside(t));
+    let surface = scene::parse(
+        &format!(
+            "[[body]]\nshape = \"surface\"\nfile = \"{}\"\n",
+            fixture("scenes/surfaces/cube_ascii.stl")
+        ),
+        Path::new("s.toml"),
+    )
+    .unwrap();
+    let boxed = scene::parse(
+        "[[body]]\nshape = \"box\"\nmin = [0.25, 0.25, 0.25]\nmax = [0.75, 0.75, 0.75]\n",
+        Path::new("b.toml"),
+    )
+    .unwrap();
+    let full = Ctx::new(&m);
+    let cut = Ctx::new(&hollow);
+    // The cut cube is hidden inside the mesh: see it through a low opacity, head on (faces seen
+    // edge-on) and from a corner.
+    for (az, el) in [(0.0, 0.0), (35.0, 30.0)] {
+        let cam = cam_of(&m, az, el, false);
+        let n = 40;
+        let (a, _) = full.raycast(Some(&surface), &cam, n);
+        let (b, _) = full.raycast(Some(&boxed), &cam, n);
+        let (c, _) = cut.raycast(None, &cam, n);
+        assert!(
+            max_diff(&a, &b) < 1e-6,
+            "surface vs box {}",
+            max_diff(&a, &b)
+        );
+        assert!(
+            max_diff(&a, &c) < 1e-5,
+            "surface vs deleted tets {}",
+            max_diff(&a, &c)
+        );
+        assert!(max_diff(&a, &full.raycast(None, &cam, n).0) > 0.01);
+        let (p, _) = full.pt(Some(&surface), &cam, n);
+        no_holes(&p, &c, "VTK cube surface");
+        let e = p.error_against(&c, BG);
+        assert!(
+            e.rmse < 0.004 && e.max < 0.06,
+            "PT with the VTK cube: {e:?}"
+        );
+    }
+}
+
+#[test]
+fn vtk_spheres_of_increasing_resolution_converge_to_the_analytic_sphere() {
+    if !common::require_vtk("vtk_spheres_of_increasing_resolution_converge") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let code = r#"
+import sys, vtk
+for res in (8, 16, 32, 64):
+    s = vtk.vtkSphereSource()
+    s.SetCenter(0.5, 0.5, 0.5)
+    s.SetRadius(0.4)
+    s.SetThetaResolution(res)
+    s.SetPhiResolution(res)
+    w = vtk.vtkXMLPolyDataWriter()
+    w.SetFileName(sys.argv[1] + "/vtk%d.vtp" % res)
+    w.SetInputConnection(s.GetOutputPort())
+    w.Write()
+"#;
+    common::vtk_python(code, &[dir.path().to_str().unwrap()]);
+    let n3 = [6, 6, 6];
+    let mut m = structured_grid(n3, [0.0; 3], [1.0; 3]);
+    jitter(&mut m, n3, 0.2, 9);
+    let c = Ctx::new(&m);
+    let cam = cam_of(&m, 20.0, 30.0, false);
+    let n = 48;
+    let body = |shape: &str| {
+        format!("[[body]]\n{shape}\naction = \"transfer\"\n[body.transfer]\ncolormap = \"reds\"\nopacity = [[0.0, 0.95], [1.0, 0.95]]\n[[body]]\nshape = \"box\"\nmin = [0.5, -1.0, -1.0]\nmax = [2.0, 2.0, 2.0]\n")
+    };
+    let analytic = scene_of(
+        &body("shape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.4"),
+        dir.path(),
+    );
+    let (ra, _) = c.raycast(Some(&analytic), &cam, n);
+    let mut prev = f64::INFINITY;
+    for k in [8, 16, 32, 64] {
+        let s = scene_of(
+            &body(&format!("shape = \"surface\"\nfile = \"vtk{k}.vtp\"")),
+            dir.path(),
+        );
+        let (rs, _) = c.raycast(Some(&s), &cam, n);
+        assert!(!rs.has_nan());
+        let e = rs.error_against(&ra, BG).rmse;
+        eprintln!("VTK sphere {k} x {k}: RMSE against the analytic sphere {e:.5}");
+        assert!(e < prev, "{k}: {e} not below {prev}");
+        prev = e;
+    }
+    assert!(prev < 0.01, "{prev}");
 }

@@ -416,7 +416,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     // Bodies take their own path; a scene without bodies renders exactly as no scene.
     if let Some(s) = scene.as_ref().filter(|s| !s.bodies.is_empty()) {
-        super::render_device::scene_on_cpu(args.device, s.bodies.len())?;
+        if super::render_device::scene_gpu(args, &session, s, cam0, step)? {
+            return Ok(());
+        }
         return super::render_scene::run(args, &session, s, cam0, step, progress);
     }
     let mut frame_times = Vec::new();

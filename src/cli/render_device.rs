@@ -4,10 +4,13 @@ use anyhow::{bail, Result};
 use std::path::Path;
 use std::time::Instant;
 
-use super::render::{order_for, SortChoice};
+use super::render::{frame_path, order_for, MethodChoice, RenderArgs, Session, SortChoice};
 use crate::camera::Camera;
-use crate::render::gpu::{GpuContext, GpuRenderer, TargetFormat};
+use crate::render::cut::SceneLook;
+use crate::render::gpu::{GpuContext, GpuRenderer, SceneTables, TargetFormat};
+use crate::render::prepare;
 use crate::render::pt::{Shader, View};
+use crate::scene::{code_string, Scene};
 use crate::sort::Sorter;
 
 /// Where projected tetrahedra run.
@@ -65,18 +68,99 @@ pub struct GpuFrames<'a> {
     pub background: [f32; 3],
 }
 
-/// Scene bodies render on the CPU: `--device gpu` refuses them, `auto` says so.
-pub fn scene_on_cpu(device: DeviceChoice, bodies: usize) -> Result<()> {
-    match device {
-        DeviceChoice::Cpu => Ok(()),
-        DeviceChoice::Gpu => {
-            bail!("--device gpu: a scene with {bodies} bodies renders on the CPU only (--device cpu or auto)")
+/// A scene with bodies on the GPU (`--device gpu`, or `auto` with an adapter): per-pixel body
+/// crossings from the CPU as a texture, fragments split in the fragment shader. Returns false
+/// when the CPU should render it (`cpu`, or `auto` without an adapter).
+pub fn scene_gpu(
+    args: &RenderArgs,
+    session: &Session,
+    scene: &Scene,
+    cam0: Camera,
+    step: f64,
+) -> Result<bool> {
+    let look = &args.look;
+    match (args.device, args.method) {
+        (DeviceChoice::Cpu, _) => return Ok(false),
+        (DeviceChoice::Gpu, MethodChoice::Raycast) => {
+            bail!("--method raycast runs on the CPU only (--device gpu draws projected tetrahedra)")
         }
-        DeviceChoice::Auto => {
-            eprintln!("tetkit: --device auto: scene bodies render on the CPU");
-            Ok(())
+        (DeviceChoice::Auto, MethodChoice::Raycast) => return Ok(false),
+        _ => {}
+    }
+    let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
+    let m = &session.mesh;
+    let Some(mut gpu) = open_gpu(
+        args.device,
+        &m.points,
+        &m.tets,
+        &session.field,
+        &shader,
+        look.quiet,
+    )?
+    else {
+        return Ok(false);
+    };
+    let mut sl = SceneLook::new(scene, &session.tf, &session.base)?;
+    sl.culling = !args.no_culling;
+    let sorter = match args.sort {
+        SortChoice::None => None,
+        _ => Some(session.sorter()?),
+    };
+    let mut tables = SceneTables::new(args.integration, look.table, session.lmax);
+    let frames = args.orbit.unwrap_or(1);
+    let (w, h) = look.size;
+    let bits = scene.bodies.len();
+    let mut lines = vec![
+        format!(
+            "{} tets, array '{}', read {:.3} s; scene {}: {} bodies, culling {}",
+            m.tets.len(),
+            session.field_name,
+            session.read_s,
+            scene.file.display(),
+            bits,
+            if sl.culling { "on" } else { "off" }
+        ),
+        format!("GPU: {}", gpu.context().describe()),
+    ];
+    let mut reports = Vec::new();
+    for i in 0..frames {
+        let mut cam = cam0;
+        cam.azimuth(step * i as f64);
+        let t = Instant::now();
+        let (order, sort_s) = order_for(sorter.as_ref(), m.tets.len(), &cam, args.sort);
+        let view = View::new(&cam, w, h);
+        let (img, _, times, st) = gpu.render_scene(&view, &cam, &order, &sl, &mut tables)?;
+        let frame_s = t.elapsed().as_secs_f64();
+        write_png(&img, &frame_path(&args.output, i, frames), look.background)?;
+        let codes: Vec<String> = st.codes.iter().map(|&c| code_string(c, bits)).collect();
+        lines.push(format!(
+            "frame {i}: {frame_s:.3} s (sort {sort_s:.3}, crossings {:.3}, upload {:.3}, draw {:.3}, readback {:.3}); codes {codes:?}, {} tables; pixels with crossings {}, at most {} per pixel",
+            st.crossings_s, times.upload, times.draw, times.readback, st.tables, st.pixels_with_crossings, st.layers
+        ));
+        reports.push(serde_json::json!({
+            "frame": i,
+            "seconds": frame_s,
+            "codes": codes,
+            "tables": st.tables,
+            "pixels_with_crossings": st.pixels_with_crossings,
+        }));
+    }
+    if !look.quiet {
+        for l in lines {
+            eprintln!("{l}");
         }
     }
+    if args.json {
+        let report = serde_json::json!({
+            "tets": m.tets.len(),
+            "bodies": bits,
+            "device": "gpu",
+            "culling": sl.culling,
+            "frames": reports,
+        });
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    }
+    Ok(true)
 }
 
 /// Renders every frame on the GPU (the mesh stays resident; each frame uploads the camera and the

@@ -381,6 +381,11 @@ impl ShaderCache {
         self
     }
 
+    /// The default transfer function's shader, once built.
+    pub fn default_shader(&self) -> Option<&Shader> {
+        self.shaders.get(&0)
+    }
+
     fn ensure(&mut self, look: &SceneLook, k: u16) {
         if self.shaders.contains_key(&k) {
             return;

@@ -3,13 +3,14 @@
 //! a tangent point) does not count, so a body whose surface passes exactly through mesh faces and
 //! vertices marks only the tets on its inside.
 //!
-//! Boxes and triangle surfaces are decided exactly (separating planes with exact signs); spheres,
-//! cylinders and cones in floating point (closest distances), where only rounding can mistake a
-//! tangency for an overlap.
+//! Boxes, triangle surfaces and spheres are decided exactly (separating planes with exact signs;
+//! a sphere's distance to the tet filtered in floats, exact dyadic arithmetic near tangency, and a
+//! tet at distance exactly `r` only touches); cylinders and cones in floating point (closest
+//! distances), where only rounding can mistake a tangency for an overlap.
 
 use rayon::prelude::*;
 
-use super::exact::{det3_sign, orient, orient2, parallel};
+use super::exact::{ball_meets_tet, det3_sign, orient, orient2, parallel};
 use super::{Primitive, Scene, Shape, TriSurface};
 use crate::geom::{dot, sub, Aabb};
 use crate::mesh::TetMesh;
@@ -211,11 +212,28 @@ fn tet_sphere(p: &[[f64; 3]; 4], c: &[f64; 3], r: f64) -> bool {
     if inside_tet(p, c) {
         return true;
     }
-    TET_FACES.iter().any(|f| {
-        let q = closest_on_triangle(c, &p[f[0]], &p[f[1]], &p[f[2]]);
-        let v = sub(&q, c);
-        dot(&v, &v) < r * r
-    })
+    // Filter: the closest distance in floats, with the tet moved so `c` is the origin (rounding
+    // then scales with the tet's distance from `c`, not with the coordinates' offset). The
+    // closest-point arithmetic is off by a small multiple of eps times that scale; a margin of
+    // 1e-9 of it leaves the exact test only the near-tangent cases.
+    let q = p.map(|x| sub(&x, c));
+    let o = [0.0; 3];
+    let mut best = f64::INFINITY;
+    for f in TET_FACES {
+        let x = closest_on_triangle(&o, &q[f[0]], &q[f[1]], &q[f[2]]);
+        best = best.min(dot(&x, &x));
+    }
+    let scale = q.iter().map(|x| dot(x, x)).fold(r * r, f64::max);
+    let margin = 1e-9 * scale;
+    if best.is_finite() && scale.is_finite() && scale > 1e-280 {
+        if best < r * r - margin {
+            return true;
+        }
+        if best > r * r + margin {
+            return false;
+        }
+    }
+    ball_meets_tet(p, c, r)
 }
 
 /// Distance from the origin to the convex hull of 2D points, compared with `r`: true when the
@@ -416,6 +434,63 @@ mod tests {
         // Box holding the tet, and a thin box through the middle with no tet vertex inside.
         assert!(tet_box(&UNIT, &[-1.0; 3], &[2.0; 3]));
         assert!(tet_box(&UNIT, &[0.1, -1.0, -1.0], &[0.2, 2.0, 2.0]));
+    }
+
+    #[test]
+    fn sphere_tangency_is_exact_at_large_offsets() {
+        // The unit tet moved to 2^23 + a fraction: tangent spheres at exactly representable
+        // distances (3-4-5 and 2-3-6 triangles) touch only; a hair more radius overlaps.
+        let o = 8_388_608.25;
+        let t = UNIT.map(|v| v.map(|x| x + o));
+        let face = [o - 1.0, o + 0.2, o + 0.2];
+        assert!(!tet_sphere(&t, &face, 1.0));
+        assert!(tet_sphere(&t, &face, 1.0 + f64::EPSILON));
+        let edge = [o + 0.5, o - 3.0, o - 4.0];
+        assert!(!tet_sphere(&t, &edge, 5.0));
+        assert!(tet_sphere(&t, &edge, 5.0 + 4.0 * f64::EPSILON));
+        let vertex = [o - 2.0, o - 3.0, o - 6.0];
+        assert!(!tet_sphere(&t, &vertex, 7.0));
+        assert!(tet_sphere(&t, &vertex, 7.0 + 4.0 * f64::EPSILON));
+        // The slanted face x + y + z = 1 (relative): centre on its normal through (1/4, 1/4,
+        // 1/2) at distance sqrt(3) (the point plus (1, 1, 1)).
+        let slant = [o + 1.25, o + 1.25, o + 1.5];
+        assert!(!tet_sphere(&t, &slant, 3f64.sqrt() * (1.0 - 1e-15)));
+        for (c, r) in [(face, 1.0), (edge, 5.0), (vertex, 7.0)] {
+            assert!(!ball_meets_tet(&t, &c, r));
+        }
+        // A slanted face on the plane 3x + 4y = 12 (unit normal (3, 4, 0) / 5): the centre 5
+        // along the normal from the face point (3, 0.75, 0.25) is exactly 5 away.
+        let s = [
+            [4.0, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [4.0, 0.0, 1.0],
+            [0.0, 0.0, 0.0],
+        ]
+        .map(|v: [f64; 3]| v.map(|x| x + o));
+        let c = [6.0 + o, 4.75 + o, 0.25 + o];
+        assert!(!tet_sphere(&s, &c, 5.0));
+        assert!(!ball_meets_tet(&s, &c, 5.0));
+        assert!(tet_sphere(&s, &c, 5.0 + 8.0 * f64::EPSILON));
+        // The exact test alone agrees with the filtered one away from tangency.
+        let mut seed = 5u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+        };
+        for _ in 0..300 {
+            let c = [rnd(), rnd(), rnd()];
+            let r = rnd().abs() + 0.05;
+            if inside_tet(&UNIT, &c) {
+                continue;
+            }
+            assert_eq!(
+                tet_sphere(&UNIT, &c, r),
+                ball_meets_tet(&UNIT, &c, r),
+                "c {c:?} r {r}"
+            );
+        }
     }
 
     #[test]

@@ -103,6 +103,81 @@ fn det3_exact(u: Diff, v: Diff, w: Diff) -> i32 {
     det.sign()
 }
 
+type D3 = [Dyadic; 3];
+
+fn d3_dot(a: &D3, b: &D3) -> Dyadic {
+    a[0].mul(&b[0]).add(&a[1].mul(&b[1])).add(&a[2].mul(&b[2]))
+}
+
+fn d3_sub(a: &D3, b: &D3) -> D3 {
+    [0, 1, 2].map(|k| a[k].sub(&b[k]))
+}
+
+fn d3_cross(a: &D3, b: &D3) -> D3 {
+    [
+        a[1].mul(&b[2]).sub(&a[2].mul(&b[1])),
+        a[2].mul(&b[0]).sub(&a[0].mul(&b[2])),
+        a[0].mul(&b[1]).sub(&a[1].mul(&b[0])),
+    ]
+}
+
+/// Exact: whether the closed tet `p` comes strictly closer to `c` than `r`, i.e. whether the
+/// tet meets the open ball. The distance to a convex polytope is attained on the relative
+/// interior of one of its faces (a vertex, an edge or a triangle) where the foot of the
+/// perpendicular onto that face's hull lies in the face, so the minimum over those feet is the
+/// distance; every comparison is of polynomials in the input coordinates (no division), in
+/// exact dyadic arithmetic. A ball that only touches the tet (distance exactly `r`) does not
+/// meet it. `c` inside the tet is the caller's exact test; a flat tet is not handled here.
+pub fn ball_meets_tet(p: &[[f64; 3]; 4], c: &[f64; 3], r: f64) -> bool {
+    let v: Vec<D3> = p
+        .iter()
+        .map(|x| [0, 1, 2].map(|k| Dyadic::from_f64(x[k]).sub(&Dyadic::from_f64(c[k]))))
+        .collect();
+    let rr = Dyadic::from_f64(r).mul(&Dyadic::from_f64(r));
+    // Vertices.
+    if v.iter().any(|a| d3_dot(a, a).sub(&rr).sign() < 0) {
+        return true;
+    }
+    // Edges: with c at the origin the foot on a + t e is at t = -a.e / e.e.
+    const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+    for [i, j] in EDGES {
+        let (a, b) = (&v[i], &v[j]);
+        let e = d3_sub(b, a);
+        let ae = d3_dot(a, &e);
+        let ee = d3_dot(&e, &e);
+        // 0 <= -a.e <= e.e
+        if ae.sign() > 0 || ae.add(&ee).sign() < 0 {
+            continue;
+        }
+        // |a|^2 - (a.e)^2 / e.e < r^2  <=>  |a|^2 e.e - (a.e)^2 < r^2 e.e
+        let lhs = d3_dot(a, a).mul(&ee).sub(&ae.mul(&ae));
+        if lhs.sub(&rr.mul(&ee)).sign() < 0 {
+            return true;
+        }
+    }
+    // Triangles: the foot of the origin lies in abc when it is on the inner side of each edge.
+    const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+    for [i, j, k] in FACES {
+        let (a, b, cc) = (&v[i], &v[j], &v[k]);
+        let n = d3_cross(&d3_sub(b, a), &d3_sub(cc, a));
+        let zero = [a, b, cc];
+        let inside = (0..3).all(|e| {
+            let (s, t) = (zero[e], zero[(e + 1) % 3]);
+            // n . ((t - s) x (0 - s)) >= 0
+            let neg_s = [0, 1, 2].map(|q| Dyadic::from_f64(0.0).sub(&s[q]));
+            d3_dot(&n, &d3_cross(&d3_sub(t, s), &neg_s)).sign() >= 0
+        });
+        if !inside {
+            continue;
+        }
+        let an = d3_dot(a, &n);
+        if an.mul(&an).sub(&rr.mul(&d3_dot(&n, &n))).sign() < 0 {
+            return true;
+        }
+    }
+    false
+}
+
 pub const ZERO: [f64; 3] = [0.0; 3];
 
 /// Exact orientation of `x` against the plane through `a`, `b`, `c`: the sign of

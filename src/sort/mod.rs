@@ -265,7 +265,7 @@ impl<'m> Sorter<'m> {
             .collect();
         // Pass 2: per tet, which faces lead to a successor (post) and how many predecessors.
         let mirror = &self.adj.mirror;
-        let (post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
+        let (mut post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
             .into_par_iter()
             .with_min_len(4096)
             .map(|t| {
@@ -325,6 +325,7 @@ impl<'m> Sorter<'m> {
             for &(a, b) in &extra {
                 off[a as usize + 1] += 1;
                 indeg[b as usize].fetch_add(1, Relaxed);
+                post[a as usize] |= peel::HAS_EXTRA;
             }
             for i in 0..n {
                 off[i + 1] += off[i];

@@ -5,8 +5,8 @@
 //!
 //! Exactness: candidate pairs come from conservative screen boxes (float, enlarged by their
 //! rounding bound; faces reaching behind the eye get boxes open towards infinity); each pair is
-//! decided exactly: a float 2-D separation test counts only beyond its error bound, then
-//! orient3d separating planes and plane sides, and the rare rest by big-integer arithmetic
+//! decided exactly: float 2-D tests count only beyond their error bound, then orient3d plane
+//! sides, separating planes and witness rays, and the rare rest by big-integer arithmetic
 //! (`exact::relation`). What an exact zero means: faces that only touch on screen (a shared edge
 //! or vertex, an edge-on face) constrain nothing; coplanar faces that overlap (tets touching
 //! without sharing a face) order the exit face's tet first, as the ray meets it first.
@@ -405,9 +405,30 @@ impl PairCtx<'_> {
                 return false;
             }
         }
+        // Depth first (three orient3d each): a face wholly on the eye's side of the other's
+        // plane comes first on every ray through both, so nothing else needs deciding.
+        // g against f's plane: for an exit face the eye is on the inner (positive) side.
+        let side_f = ft_side(self.pts, &ft, &gt);
+        if side_f == Side::Inner {
+            return false;
+        }
+        // f against g's plane: for an entry face the eye is on the outer (negative) side.
+        let side_g = if side_f == Side::Mixed {
+            ft_side(self.pts, &gt, &ft)
+        } else {
+            Side::Mixed
+        };
+        if side_g == Side::Inner {
+            return false;
+        }
         // A plane through the eye and an edge with the two faces on either side (touching
-        // allowed) leaves no ray through both interiors.
-        if self.edge_plane_separated(&ft, &gt) || self.edge_plane_separated(&gt, &ft) {
+        // allowed) leaves no ray through both interiors. Skipped when a corner's image is surely
+        // inside the other image (then the interiors overlap).
+        let sure = match (ta, tb) {
+            (Some(a), Some(b)) => float_overlapping(a, b),
+            _ => false,
+        };
+        if !sure && (self.edge_plane_separated(&ft, &gt) || self.edge_plane_separated(&gt, &ft)) {
             return false;
         }
         if ta.is_none() || tb.is_none() {
@@ -420,18 +441,64 @@ impl PairCtx<'_> {
             return self.exact(&ft, &gt);
         }
         // Both in front and not separated: the images' interiors overlap.
-        // g against f's plane: for an exit face the eye is on the inner (positive) side.
-        match ft_side(self.pts, &ft, &gt) {
-            Side::Outer | Side::Coplanar => return true,
-            Side::Inner => return false,
-            Side::Mixed => {}
+        match (side_f, side_g) {
+            (Side::Outer | Side::Coplanar, _) | (_, Side::Outer | Side::Coplanar) => true,
+            _ => self
+                .witness(&ft, &gt)
+                .unwrap_or_else(|| self.exact(&ft, &gt)),
         }
-        // f against g's plane: for an entry face the eye is on the outer (negative) side.
-        match ft_side(self.pts, &gt, &ft) {
-            Side::Outer | Side::Coplanar => true,
-            Side::Inner => false,
-            Side::Mixed => self.exact(&ft, &gt),
+    }
+
+    /// Both faces in front, their images overlapping, and each plane cutting the other face:
+    /// the depth order along one ray through the overlap, found with orient3d alone, or `None`
+    /// when every candidate ray is degenerate. Faces that do not cross each other (boundary faces
+    /// of a valid mesh meet only at shared edges and corners) have one order on every such ray.
+    /// Candidates: a corner of one strictly inside the other's image, compared with the other's
+    /// plane; an edge of each crossing properly on screen (both in front, so the crossing is on
+    /// one ray), compared by the side of one edge's line against the plane through the other
+    /// edge and one of its ends.
+    fn witness(&self, ft: &[u32; 3], gt: &[u32; 3]) -> Option<bool> {
+        let v = &self.view;
+        let (f, g) = (ft.map(|x| self.p(x)), gt.map(|x| self.p(x)));
+        // The eye's side of each plane, in orient3d's sign.
+        let sf = eye_side(v, f[0], f[1], f[2]);
+        let sg = eye_side(v, g[0], g[1], g[2]);
+        let sign = |x: f64| (x > 0.0) as i8 - (x < 0.0) as i8;
+        for x in &f {
+            if (0..3).all(|i| eye_side(v, g[i], g[(i + 1) % 3], x) == sg) {
+                let s = sign(orient3d(g[0], g[1], g[2], x));
+                if s != 0 {
+                    return Some(s == sg);
+                }
+            }
         }
+        for x in &g {
+            if (0..3).all(|i| eye_side(v, f[i], f[(i + 1) % 3], x) == sf) {
+                let s = sign(orient3d(f[0], f[1], f[2], x));
+                if s != 0 {
+                    return Some(s == -sf);
+                }
+            }
+        }
+        for i in 0..3 {
+            let (p, q) = (f[i], f[(i + 1) % 3]);
+            for j in 0..3 {
+                let (r, s) = (g[j], g[(j + 1) % 3]);
+                let a1 = eye_side(v, p, q, r);
+                if a1 * eye_side(v, p, q, s) != -1
+                    || eye_side(v, r, s, p) * eye_side(v, r, s, q) != -1
+                {
+                    continue;
+                }
+                // rs lies behind pq where they cross when s is on the other side of the plane
+                // (p, q, r) from the eye (r is on it, so the crossing point is on s's side).
+                let o = sign(orient3d(p, q, r, s));
+                if o != 0 {
+                    return Some(o == -a1);
+                }
+            }
+        }
+        None
     }
 
     fn exact(&self, ft: &[u32; 3], gt: &[u32; 3]) -> bool {
@@ -515,6 +582,24 @@ fn orient2_bound(p: &[f64; 2], q: &[f64; 2], x: &[f64; 2], d: f64) -> (f64, f64)
         + 4.0 * d * d
         + 4.0 * EPS * (a.abs() + b.abs());
     (a - b, bound)
+}
+
+/// Whether a corner of either projected triangle is surely strictly inside the other, beyond the
+/// error bound of the projected corners (then their interiors overlap; "no" decides nothing).
+fn float_overlapping(a: &([[f64; 2]; 3], f64), b: &([[f64; 2]; 3], f64)) -> bool {
+    let d = a.1.max(b.1);
+    let inside = |s: &[[f64; 2]; 3], x: &[f64; 2]| -> bool {
+        let (area, ab) = orient2_bound(&s[0], &s[1], &s[2], d);
+        if area.abs().partial_cmp(&ab) != Some(std::cmp::Ordering::Greater) {
+            return false;
+        }
+        let sg = area.signum();
+        (0..3).all(|i| {
+            let (v, bound) = orient2_bound(&s[i], &s[(i + 1) % 3], x, d);
+            sg * v > bound
+        })
+    };
+    a.0.iter().any(|x| inside(&b.0, x)) || b.0.iter().any(|x| inside(&a.0, x))
 }
 
 /// Whether an edge line of either projected triangle surely separates them: by more than the
@@ -732,6 +817,39 @@ mod tests {
             }
         }
 
+        /// The orient3d witness agrees with the exact relation on faces that do not cross, seen
+        /// from eyes above them all or along a direction.
+        #[test]
+        fn witness_agrees_with_exact(
+            (a, b, _h) in split_pair(),
+            eye in prop::array::uniform3(-3.0f64..3.0),
+            ortho in any::<bool>(),
+        ) {
+            let view = if ortho {
+                Viewpoint::Direction([eye[0] * 0.3, eye[1] * 0.3, -1.0])
+            } else {
+                Viewpoint::Eye([eye[0], eye[1], 6.0 + eye[2].abs()])
+            };
+            prop_assume!(eye_side(&view, &a[0], &a[1], &a[2]) != 0);
+            prop_assume!(eye_side(&view, &b[0], &b[1], &b[2]) != 0);
+            let pts: Vec<[f64; 3]> = a.iter().chain(b.iter()).copied().collect();
+            let ctx = PairCtx {
+                pts: &pts,
+                tri: &[[0, 1, 2], [3, 4, 5]],
+                view,
+                proj: &[],
+                exact_calls: AtomicUsize::new(0),
+            };
+            for (f, g, x, y) in [([0, 1, 2], [3, 4, 5], &a, &b), ([3, 4, 5], [0, 1, 2], &b, &a)] {
+                let r = exact::relation(&view, x, y);
+                if r.overlap {
+                    if let Some(w) = ctx.witness(&f, &g) {
+                        prop_assert_eq!(w, r.f_first);
+                    }
+                }
+            }
+        }
+
         /// In front of the eye the orient3d edge planes decide overlap exactly: both must agree,
         /// and the float filter must never claim a separation that is not there.
         #[test]
@@ -788,6 +906,9 @@ mod tests {
             let (ta, tb) = (pa.tri.unwrap(), pb.tri.unwrap());
             if float_separated(&ta, &tb) {
                 prop_assert!(!r.overlap);
+            }
+            if float_overlapping(&ta, &tb) {
+                prop_assert!(r.overlap);
             }
             if r.overlap {
                 let (x, y) = (pa.bbox, pb.bbox);

@@ -15,8 +15,12 @@ const RELEASED: u32 = 1 << 30;
 /// shared cache lines than a second core gains).
 const PAR_FRONTIER: usize = 16384;
 
+/// Bit of `post[t]` saying `t` has extra successors (the CSR is read only for those tets).
+pub const HAS_EXTRA: u8 = 16;
+
 /// The precedence graph of one view, over global tet ids. `t` must come before `n` when bit `i`
-/// of `post[t]` is set and `n = neighbors[t][i]`, and before every `extra_to[extra_off[t]..]`.
+/// (0..4) of `post[t]` is set and `n = neighbors[t][i]`, and before every
+/// `extra_to[extra_off[t]..extra_off[t + 1]]` when `post[t]` has [`HAS_EXTRA`].
 pub struct Graph<'a> {
     pub neighbors: &'a [[u32; 4]],
     pub post: &'a [u8],
@@ -29,7 +33,7 @@ impl Graph<'_> {
     #[inline]
     fn for_each_successor(&self, t: u32, mut f: impl FnMut(u32)) {
         let tu = t as usize;
-        let mut bits = self.post[tu];
+        let mut bits = self.post[tu] & 15;
         while bits != 0 {
             let i = bits.trailing_zeros() as usize;
             bits &= bits - 1;
@@ -38,7 +42,7 @@ impl Graph<'_> {
                 f(n);
             }
         }
-        if !self.extra_off.is_empty() {
+        if self.post[tu] & HAS_EXTRA != 0 {
             for &n in &self.extra_to[self.extra_off[tu] as usize..self.extra_off[tu + 1] as usize] {
                 f(n);
             }
@@ -271,7 +275,10 @@ mod tests {
 
     fn run(n: usize, edges: &[(u32, u32)]) -> (Vec<u32>, PeelResult) {
         let neighbors = vec![[NONE; 4]; n];
-        let post = vec![0u8; n];
+        let mut post = vec![0u8; n];
+        for &(a, _) in edges {
+            post[a as usize] |= HAS_EXTRA;
+        }
         let mut off = vec![0u32; n + 1];
         let mut sorted = edges.to_vec();
         sorted.sort_unstable();

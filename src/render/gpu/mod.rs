@@ -11,6 +11,8 @@ mod pipelines;
 mod readback;
 mod renderer;
 mod resources;
+mod scene;
 
 pub use context::{GpuContext, TargetFormat};
-pub use renderer::{GpuRenderer, GpuTimes};
+pub use renderer::{GpuRenderer, GpuTimes, SceneFrameStats};
+pub use scene::SceneTables;

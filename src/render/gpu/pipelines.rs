@@ -22,6 +22,9 @@ pub struct Pipelines {
     pub expand_layout: wgpu::BindGroupLayout,
     pub draw: wgpu::RenderPipeline,
     pub draw_layout: wgpu::BindGroupLayout,
+    /// The draw with per-pixel body crossings (scenes).
+    pub draw_scene: wgpu::RenderPipeline,
+    pub draw_scene_layout: wgpu::BindGroupLayout,
 }
 
 fn entry(
@@ -83,22 +86,39 @@ impl Pipelines {
             ],
         });
         let fs = wgpu::ShaderStages::FRAGMENT;
+        let draw_entries = [
+            entry(0, fs, uniform()),
+            entry(1, fs, uniform()),
+            entry(
+                2,
+                fs,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D3,
+                    multisampled: false,
+                },
+            ),
+            entry(3, fs, storage(true)),
+            entry(4, fs, storage(true)),
+        ];
         let draw_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("draw"),
-            entries: &[
-                entry(0, fs, uniform()),
-                entry(1, fs, uniform()),
-                entry(
-                    2,
-                    fs,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D3,
-                        multisampled: false,
-                    },
-                ),
-                entry(3, fs, storage(true)),
-            ],
+            entries: &draw_entries,
+        });
+        let mut scene_entries = draw_entries.to_vec();
+        scene_entries.push(entry(
+            5,
+            fs,
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+        ));
+        scene_entries.push(entry(6, fs, storage(true)));
+        let draw_scene_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("draw scene"),
+            entries: &scene_entries,
         });
         let compute =
             |label: &str, src: &str, layout: &wgpu::BindGroupLayout, entry_point: &str| {
@@ -121,53 +141,57 @@ impl Pipelines {
         let expand = compute("expand", EXPAND, &expand_layout, "expand");
 
         let dm = module("draw", DRAW);
-        let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("draw"),
-            bind_group_layouts: &[Some(&draw_layout)],
-            immediate_size: 0,
-        });
         // Front to back: dst = dst + (1 - dst.a) src, for colour and alpha alike.
         let under = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
             dst_factor: wgpu::BlendFactor::One,
             operation: wgpu::BlendOperation::Add,
         };
-        let draw = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("draw"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
-                module: &dm,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: VERTEX_BYTES,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x2, 1 => Float32x4],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &dm,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: ctx.format.wgpu(),
-                    blend: Some(wgpu::BlendState {
-                        color: under,
-                        alpha: under,
-                    }),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let render = |label: &str, layout: &wgpu::BindGroupLayout, fs_entry: &str| {
+            let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &[Some(layout)],
+                immediate_size: 0,
+            });
+            dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState {
+                    module: &dm,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: VERTEX_BYTES,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &wgpu::vertex_attr_array![0 => Float32x2, 1 => Float32x4],
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &dm,
+                    entry_point: Some(fs_entry),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: ctx.format.wgpu(),
+                        blend: Some(wgpu::BlendState {
+                            color: under,
+                            alpha: under,
+                        }),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let draw = render("draw", &draw_layout, "fs");
+        let draw_scene = render("draw scene", &draw_scene_layout, "fs_scene");
         Pipelines {
             classify,
             classify_layout,
@@ -175,6 +199,8 @@ impl Pipelines {
             expand_layout,
             draw,
             draw_layout,
+            draw_scene,
+            draw_scene_layout,
         }
     }
 }

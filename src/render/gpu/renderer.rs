@@ -8,6 +8,9 @@ use super::context::GpuContext;
 use super::pipelines::{Pipelines, INDICES_PER_TET, WORKGROUP};
 use super::readback::{map_read, Target};
 use super::resources::{MeshBuffers, ShadeResources};
+use super::scene::{crossings, SceneTables};
+use crate::camera::Camera;
+use crate::render::cut::SceneLook;
 use crate::render::field::Field;
 use crate::render::image::Image;
 use crate::render::pt::{PtStats, Shader, View};
@@ -21,6 +24,20 @@ pub struct GpuTimes {
     pub draw: f64,
     /// Copy of the target into host memory and unpacking into an image.
     pub readback: f64,
+}
+
+/// What a scene frame computed besides the image.
+#[derive(Clone, Debug, Default)]
+pub struct SceneFrameStats {
+    /// Seconds for the per-pixel crossings and their upload set-up (on the CPU).
+    pub crossings_s: f64,
+    pub pixels_with_crossings: u64,
+    /// Region codes present where the mesh is.
+    pub codes: Vec<u8>,
+    /// Transfer-function tables stacked for the frame.
+    pub tables: usize,
+    /// Most crossings on one pixel's ray.
+    pub layers: u32,
 }
 
 #[repr(C)]
@@ -39,7 +56,9 @@ pub struct GpuRenderer {
     ctx: GpuContext,
     pipes: Pipelines,
     mesh: MeshBuffers,
-    _shade: ShadeResources,
+    shade: ShadeResources,
+    /// Stacked tables of the scene functions last used, by their slots.
+    scene_shade: Option<(Vec<u16>, ShadeResources)>,
     frame: wgpu::Buffer,
     count: wgpu::Buffer,
     counts_read: wgpu::Buffer,
@@ -133,6 +152,7 @@ impl GpuRenderer {
                 shade.uniform.as_entire_binding(),
                 wgpu::BindingResource::TextureView(&table_view),
                 shade.nodes.as_entire_binding(),
+                shade.luts.as_entire_binding(),
             ],
         );
         if let Some(e) = pollster::block_on(oom.pop()) {
@@ -148,7 +168,8 @@ impl GpuRenderer {
             ctx,
             pipes,
             mesh,
-            _shade: shade,
+            shade,
+            scene_shade: None,
             frame,
             count,
             counts_read,
@@ -166,6 +187,126 @@ impl GpuRenderer {
     /// Renders the tets in `order` (front to back) as seen by `view`. Returns the image, the
     /// projection-class counts (as the CPU path counts them) and the stage times.
     pub fn render(&mut self, view: &View, order: &[u32]) -> Result<(Image, PtStats, GpuTimes)> {
+        self.frame(view, order, None)
+    }
+
+    /// Renders with a scene's bodies: per-pixel crossings (on the CPU, as the CPU path computes
+    /// them) as a texture, each fragment split at its pixel's crossings and each piece shaded
+    /// with its region's transfer function. The bodies' tables are built on first use.
+    pub fn render_scene(
+        &mut self,
+        view: &View,
+        cam: &Camera,
+        order: &[u32],
+        look: &SceneLook,
+        tables: &mut SceneTables,
+    ) -> Result<(Image, PtStats, GpuTimes, SceneFrameStats)> {
+        let t0 = Instant::now();
+        let cr = crossings(view, cam, look, &self.mesh.bounds);
+        let (need, slots, shaders) = tables.resolve(look, &cr.seen)?;
+        let ctx = &self.ctx;
+        if !shaders.is_empty() && self.scene_shade.as_ref().is_none_or(|(k, _)| *k != need) {
+            self.scene_shade = Some((need.clone(), ShadeResources::stack(ctx, &shaders)?));
+        }
+        let shade = match &self.scene_shade {
+            Some((k, s)) if *k == need => s,
+            // Everything present is cut: no lookup happens.
+            _ => &self.shade,
+        };
+        let max_layers = ctx.limits.max_texture_array_layers;
+        if cr.layers > max_layers {
+            bail!(
+                "GPU '{}': {} body crossings on one pixel ray, over the adapter's {max_layers} texture layers",
+                ctx.info.name,
+                cr.layers - 1
+            );
+        }
+        let size = wgpu::Extent3d {
+            width: view.width,
+            height: view.height,
+            depth_or_array_layers: cr.layers,
+        };
+        let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("body crossings"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rg32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        ctx.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &tex,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(&cr.texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(view.width * 8),
+                rows_per_image: Some(view.height),
+            },
+            size,
+        );
+        let tex_view = tex.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let slot_buf = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("region slots"),
+                contents: bytemuck::cast_slice(&slots),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+        let table_view = shade.table.create_view(&Default::default());
+        let res = [
+            self.frame.as_entire_binding(),
+            shade.uniform.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&table_view),
+            shade.nodes.as_entire_binding(),
+            shade.luts.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&tex_view),
+            slot_buf.as_entire_binding(),
+        ];
+        let entries: Vec<wgpu::BindGroupEntry> = res
+            .iter()
+            .enumerate()
+            .map(|(i, r)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: r.clone(),
+            })
+            .collect();
+        let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("draw scene"),
+            layout: &self.pipes.draw_scene_layout,
+            entries: &entries,
+        });
+        let crossings_s = t0.elapsed().as_secs_f64();
+        let (img, stats, times) = self.frame(view, order, Some(&bg))?;
+        Ok((
+            img,
+            stats,
+            times,
+            SceneFrameStats {
+                crossings_s,
+                pixels_with_crossings: cr.traced,
+                codes: (0..256).filter(|&c| cr.seen[c]).map(|c| c as u8).collect(),
+                tables: need.len(),
+                layers: cr.layers - 1,
+            },
+        ))
+    }
+
+    fn frame(
+        &mut self,
+        view: &View,
+        order: &[u32],
+        scene: Option<&wgpu::BindGroup>,
+    ) -> Result<(Image, PtStats, GpuTimes)> {
         let n = self.mesh.ntets;
         if order.len() > n as usize {
             bail!("order of {} tets for a mesh of {n}", order.len());
@@ -270,8 +411,16 @@ impl GpuRenderer {
                 multiview_mask: None,
             });
             if !order.is_empty() {
-                rp.set_pipeline(&self.pipes.draw);
-                rp.set_bind_group(0, &self.draw_bg, &[]);
+                match scene {
+                    Some(bg) => {
+                        rp.set_pipeline(&self.pipes.draw_scene);
+                        rp.set_bind_group(0, bg, &[]);
+                    }
+                    None => {
+                        rp.set_pipeline(&self.pipes.draw);
+                        rp.set_bind_group(0, &self.draw_bg, &[]);
+                    }
+                }
                 rp.set_vertex_buffer(0, self.mesh.verts.slice(..));
                 rp.set_index_buffer(self.mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
                 rp.draw_indexed(0..(order.len() as u64 * INDICES_PER_TET) as u32, 0, 0..1);

@@ -15,6 +15,8 @@ pub struct MeshBuffers {
     pub ntets: u32,
     /// Points are uploaded relative to this (f64) centre, so large offsets cost no precision.
     pub centre: [f64; 3],
+    /// The points' bounding box (scenes bound their work with it).
+    pub bounds: crate::geom::Aabb,
     pub cell_field: bool,
     pub points: wgpu::Buffer,
     pub tets: wgpu::Buffer,
@@ -123,6 +125,7 @@ impl MeshBuffers {
         Ok(MeshBuffers {
             ntets,
             centre,
+            bounds: crate::geom::Aabb::of_points(points.iter()),
             cell_field,
             points: init("points", bytemuck::cast_slice(&pts), st),
             tets: init("tets", bytemuck::cast_slice(tets), st),
@@ -152,18 +155,28 @@ pub struct ShadeResources {
     pub uniform: wgpu::Buffer,
     pub table: wgpu::Texture,
     pub nodes: wgpu::Buffer,
+    /// Per stacked function: scalar origin, 1 / scalar step, 1 / length step, last node index.
+    pub luts: wgpu::Buffer,
 }
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct ShadeUniform {
     mode: [u32; 4],
-    lut: [f32; 4],
 }
 
 impl ShadeResources {
     pub fn new(ctx: &GpuContext, shader: &Shader) -> Result<ShadeResources> {
+        ShadeResources::stack(ctx, &[shader])
+    }
+
+    /// Several transfer functions' shading inputs of one mode and size, stacked: table `k` at
+    /// depth `k * nl` of the 3-D texture, nodes of function `k` from `k * nodes`.
+    pub fn stack(ctx: &GpuContext, shaders: &[&Shader]) -> Result<ShadeResources> {
         let dev = &ctx.device;
+        let Some(first) = shaders.first() else {
+            bail!("no transfer function to shade with");
+        };
         let table_texture = |dims: [u32; 3], data: &[[f32; 4]]| {
             let size = wgpu::Extent3d {
                 width: dims[0],
@@ -171,7 +184,7 @@ impl ShadeResources {
                 depth_or_array_layers: dims[2],
             };
             let tex = dev.create_texture(&wgpu::TextureDescriptor {
-                label: Some("pre-integration table"),
+                label: Some("pre-integration tables"),
                 size,
                 mip_level_count: 1,
                 sample_count: 1,
@@ -204,13 +217,26 @@ impl ShadeResources {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         };
-        let (uni, table, nodes) = match shader {
+        let (uni, table, nodes, luts) = match first {
             Shader::Pre(t) => {
+                let mut data = Vec::with_capacity(t.data.len() * shaders.len());
+                let mut luts = Vec::with_capacity(shaders.len());
+                for s in shaders {
+                    match s {
+                        Shader::Pre(u) if u.ns == t.ns && u.nl == t.nl => {
+                            data.extend_from_slice(&u.data);
+                            luts.push([u.s0, u.inv_ds, u.inv_dl, 0.0]);
+                        }
+                        _ => bail!("stacked tables differ in mode or size"),
+                    }
+                }
+                let depth = t.nl * shaders.len();
                 let max3 = ctx.limits.max_texture_dimension_3d as usize;
-                if t.ns > max3 || t.nl > max3 {
+                if t.ns > max3 || depth > max3 {
                     bail!(
-                        "GPU '{}': a {}x{}x{} pre-integration table is over the adapter's 3-D texture limit of {max3}",
+                        "GPU '{}': {} pre-integration table(s) of {}x{}x{} exceed the adapter's 3-D texture limit of {max3}",
                         ctx.info.name,
+                        shaders.len(),
                         t.ns,
                         t.ns,
                         t.nl
@@ -219,23 +245,31 @@ impl ShadeResources {
                 (
                     ShadeUniform {
                         mode: [2, t.ns as u32, t.nl as u32, 0],
-                        lut: [t.s0, t.inv_ds, t.inv_dl, 0.0],
                     },
-                    table_texture([t.ns as u32, t.ns as u32, t.nl as u32], &t.data),
+                    table_texture([t.ns as u32, t.ns as u32, depth as u32], &data),
                     nodes_buffer(&[[0.0; 4]; 2]),
+                    luts,
                 )
             }
             Shader::Average(tf) | Shader::Linear(tf) => {
                 if tf.nodes.len() < 2 {
                     bail!("transfer function with {} nodes: need 2", tf.nodes.len());
                 }
-                check_size(
-                    ctx,
-                    "transfer-function nodes",
-                    tf.nodes.len() as u64 * 16,
-                    true,
-                )?;
-                let mode = if matches!(shader, Shader::Average(_)) {
+                let mut all = Vec::with_capacity(tf.nodes.len() * shaders.len());
+                let mut luts = Vec::with_capacity(shaders.len());
+                for s in shaders {
+                    match s {
+                        Shader::Average(u) | Shader::Linear(u)
+                            if u.nodes.len() == tf.nodes.len() =>
+                        {
+                            all.extend_from_slice(&u.nodes);
+                            luts.push([u.s0, u.inv_ds, 0.0, u.last]);
+                        }
+                        _ => bail!("stacked transfer functions differ in mode or node count"),
+                    }
+                }
+                check_size(ctx, "transfer-function nodes", all.len() as u64 * 16, true)?;
+                let mode = if matches!(first, Shader::Average(_)) {
                     0
                 } else {
                     1
@@ -243,10 +277,10 @@ impl ShadeResources {
                 (
                     ShadeUniform {
                         mode: [mode, tf.nodes.len() as u32, 0, 0],
-                        lut: [tf.s0, tf.inv_ds, 0.0, tf.last],
                     },
                     table_texture([1, 1, 1], &[[0.0; 4]]),
-                    nodes_buffer(&tf.nodes),
+                    nodes_buffer(&all),
+                    luts,
                 )
             }
         };
@@ -255,10 +289,12 @@ impl ShadeResources {
             contents: bytemuck::bytes_of(&uni),
             usage: wgpu::BufferUsages::UNIFORM,
         });
+        let luts = nodes_buffer(&luts);
         Ok(ShadeResources {
             uniform,
             table,
             nodes,
+            luts,
         })
     }
 }
