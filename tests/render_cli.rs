@@ -215,3 +215,60 @@ fn tradeoff_writes_table_plot_and_images() {
         .unwrap();
     assert_eq!(kd.split(',').nth(7), Some("0"), "{kd}");
 }
+
+fn rgba(p: &Path) -> Vec<u8> {
+    image::open(p)
+        .expect("reading the PNG back")
+        .to_rgba8()
+        .into_raw()
+}
+
+/// Largest channel difference (0-255) between two PNGs of the same size.
+fn max_diff(a: &Path, b: &Path) -> u8 {
+    let (x, y) = (rgba(a), rgba(b));
+    assert_eq!(x.len(), y.len());
+    x.iter()
+        .zip(&y)
+        .map(|(p, q)| p.abs_diff(*q))
+        .max()
+        .unwrap_or(0)
+}
+
+#[test]
+fn schedules_and_ray_integrations_agree() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("gmsh/lshape.vtk");
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "render",
+            &mesh,
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "80x64",
+            "--azimuth",
+            "30",
+            "--elevation",
+            "20",
+            "--quiet",
+        ];
+        args.extend_from_slice(extra);
+        let (ok, _, err) = tetkit(&args);
+        assert!(ok, "{err}");
+        out
+    };
+    // The two PT schedules composite the same fragments in the same order.
+    let tiles = run("tiles.png", &["--pt-schedule", "tiles"]);
+    let chunks = run("chunks.png", &["--pt-schedule", "chunks"]);
+    assert!(max_diff(&tiles, &chunks) <= 1);
+    // The table-integrated ray caster stays close to the exact one.
+    let exact = run("exact.png", &["--method", "raycast"]);
+    let table = run(
+        "table.png",
+        &["--method", "raycast", "--ray-integration", "preintegrated"],
+    );
+    let d = max_diff(&exact, &table);
+    assert!(d <= 8, "table vs exact ray caster: {d}/255");
+    assert!(rgba(&exact).iter().any(|&v| v > 0), "nothing drawn");
+}

@@ -14,7 +14,7 @@ use crate::mesh::TetMesh;
 use crate::render::cut::BaseLook;
 use crate::render::field::Field;
 use crate::render::image::{parse_color, parse_size, Image};
-use crate::render::integrate::Integration;
+use crate::render::integrate::{Integration, PreintTable};
 use crate::render::prepare::{self, TableSize};
 use crate::render::pt::{self, Shader, View};
 use crate::render::raycast::RayCaster;
@@ -60,6 +60,15 @@ pub enum MethodChoice {
     Raycast,
 }
 
+/// Segment integration of `--method raycast`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum RayIntegration {
+    /// Exact through every transfer-function node (the reference).
+    Exact,
+    /// Trilinear lookup in the (Sf, Sb, l) table of `--table`.
+    Preintegrated,
+}
+
 /// Transfer-function and image options shared by `render` and `tradeoff`.
 #[derive(Args, Debug, Clone)]
 pub struct LookArgs {
@@ -91,6 +100,10 @@ pub struct LookArgs {
     /// Pre-integration table size SCALARxLENGTH.
     #[arg(long, default_value = "128x32", value_name = "SxL")]
     pub table: TableSize,
+    /// How PT shares a frame among threads: screen tiles honouring the global order, or runs of
+    /// the order in separate buffers composited in order.
+    #[arg(long, value_enum, default_value = "tiles")]
+    pub pt_schedule: pt::Schedule,
     /// Background: black, white, #rrggbb or r,g,b in [0, 1].
     #[arg(long, default_value = "black", value_parser = parse_color_arg)]
     pub background: [f32; 3],
@@ -139,6 +152,10 @@ pub struct RenderArgs {
     /// Projected tetrahedra, or the exact ray-cast reference.
     #[arg(long, value_enum, default_value = "pt")]
     pub method: MethodChoice,
+    /// How the ray caster integrates each segment: exactly (the reference), or by the
+    /// pre-integration table's lookup as VTK's ray caster does (faster, approximate).
+    #[arg(long, value_enum, default_value = "exact")]
+    pub ray_integration: RayIntegration,
     /// Render N frames turning about the focal point (azimuth 360/N each), reusing adjacency,
     /// grid and tables.
     #[arg(long, value_name = "N")]
@@ -221,6 +238,7 @@ pub struct Session {
     pub base: BaseLook,
     pub lmax: f64,
     pub read_s: f64,
+    pub schedule: pt::Schedule,
 }
 
 impl Session {
@@ -320,6 +338,7 @@ impl Session {
             base,
             lmax,
             read_s: t0.elapsed().as_secs_f64(),
+            schedule: look.pt_schedule,
         })
     }
 
@@ -412,7 +431,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 SortChoice::None => None,
                 _ => Some(session.sorter()?),
             };
+            let t_table = Instant::now();
             let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
+            let table_s = t_table.elapsed().as_secs_f64();
             let m = &session.mesh;
             let mut gpu = open_gpu(
                 args.device,
@@ -460,7 +481,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             summary.insert(
                 0,
                 format!(
-                    "{} tets, array '{}', read {:.3} s, setup (adjacency, leaves, table) {setup:.3} s",
+                    "{} tets, array '{}', read {:.3} s, setup (adjacency, leaves, table) {setup:.3} s, of which table {table_s:.3} s",
                     session.mesh.tets.len(),
                     session.field_name,
                     session.read_s
@@ -479,6 +500,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 &topo,
                 GridParams::default(),
             );
+            let table = (args.ray_integration == RayIntegration::Preintegrated).then(|| {
+                PreintTable::build(
+                    &session.tf,
+                    look.table.scalar,
+                    look.table.length,
+                    session.lmax * 1.0001,
+                )
+            });
             let setup = t_setup.elapsed().as_secs_f64();
             progress.step("setup");
             let (e, l) = (rc.entry.grid.stats, rc.locator.grid.stats);
@@ -499,7 +528,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 let mut cam = cam0;
                 cam.azimuth(step * i as f64);
                 let t = Instant::now();
-                let (img, st) = rc.render(&session.tf, &cam, w, h);
+                let (img, st) = match &table {
+                    None => rc.render(&session.tf, &cam, w, h),
+                    Some(tab) => rc.render_with(
+                        &|a, b, l| tab.lookup(a as f32, b as f32, l as f32).map(f64::from),
+                        &cam,
+                        w,
+                        h,
+                    ),
+                };
                 let frame_s = t.elapsed().as_secs_f64();
                 frame_times.push(frame_s);
                 img.write_png(&frame_path(&args.output, i, frames), look.background)?;
@@ -539,12 +576,13 @@ pub fn pt_frame(
     shader: &Shader,
 ) -> (Image, pt::PtStats, pt::PtTimes) {
     let view = View::new(cam, w, h);
-    pt::render(
+    pt::render_with(
         &view,
         &session.mesh.points,
         &session.mesh.tets,
         &session.field,
         order,
         shader,
+        session.schedule,
     )
 }

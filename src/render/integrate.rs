@@ -107,12 +107,14 @@ pub fn exact_segment(tf: &TransferFunction, sf: f64, sb: f64, len: f64) -> [f64;
     let mut color = [0.0f64; 3];
     let mut trans = 1.0f64;
     let mut u_prev = 0.0f64;
+    // The transfer function at the start of the next piece (the end of the previous one).
+    let mut at_prev = tf.eval(sf);
     let mut piece = |u: f64, u_prev: &mut f64| {
         let u = u.clamp(*u_prev, 1.0);
         if u <= *u_prev || trans < 1e-30 {
             return;
         }
-        let (c0, t0) = tf.eval(sf + span * *u_prev);
+        let (c0, t0) = at_prev;
         let (c1, t1) = tf.eval(sf + span * u);
         let (c, tr) = linear_piece(c0, t0, c1, t1, len * (u - *u_prev));
         for k in 0..3 {
@@ -120,6 +122,7 @@ pub fn exact_segment(tf: &TransferFunction, sf: f64, sb: f64, len: f64) -> [f64;
         }
         trans *= tr;
         *u_prev = u;
+        at_prev = (c1, t1);
     };
     let (r0, r1) = (tf.range[0], tf.range[1]);
     if span != 0.0 && r1 > r0 {

@@ -264,7 +264,8 @@ pub(crate) struct TetSetup {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PtStats {
     pub class: [u64; 5],
-    /// Tets not drawn because a vertex is behind the eye or outside the guard band.
+    /// Tets with a vertex behind the eye (perspective) or outside the guard band, drawn by the
+    /// per-pixel clipping path instead of the rasterizer.
     pub clipped: u64,
     pub fragments: u64,
 }
@@ -322,12 +323,21 @@ pub(crate) fn setup_tet(
         return None;
     }
     // Silhouette, positively oriented.
-    let pos: Vec<usize> = (0..4).filter(|&i| d[i] > 0).collect();
-    let neg: Vec<usize> = (0..4).filter(|&i| d[i] < 0).collect();
+    let (mut pos, mut np) = ([0usize; 4], 0);
+    let (mut neg, mut nn) = ([0usize; 4], 0);
+    for (i, &di) in d.iter().enumerate() {
+        if di > 0 {
+            pos[np] = i;
+            np += 1;
+        } else if di < 0 {
+            neg[nn] = i;
+            nn += 1;
+        }
+    }
     let mut poly = [(0i64, 0i64); 4];
     let nedges;
-    if pos.len() == 1 || neg.len() == 1 {
-        let lone = if pos.len() == 1 { pos[0] } else { neg[0] };
+    if np == 1 || nn == 1 {
+        let lone = if np == 1 { pos[0] } else { neg[0] };
         let f = FACES[lone];
         let tri = if d[lone] > 0 {
             [fp[f[0]], fp[f[1]], fp[f[2]]]
@@ -470,6 +480,14 @@ pub(crate) fn setup_tet(
     };
     let smin = s.iter().copied().fold(f64::INFINITY, f64::min);
     let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Unused plane slots repeat the first plane, so the rasterizer takes the min and max over
+    // all three without branching (a repeat changes neither).
+    for k in nf..3 {
+        front[k] = front[0];
+    }
+    for k in nb..3 {
+        back[k] = back[0];
+    }
     Some(TetSetup {
         edges,
         nedges,
@@ -491,11 +509,26 @@ pub(crate) fn setup_tet(
     })
 }
 
-/// One fragment's (Sf, Sb, l) at pixel centre `(cx, cy)`.
+/// One fragment's (Sf, Sb, l) at pixel centre `(cx, cy)`: all three plane slots evaluated (the
+/// unused ones repeat a used plane), so no branch depends on the tet's class.
 #[inline(always)]
 fn fragment(t: &TetSetup, parallel: bool, cx: f32, cy: f32, stretch: f32) -> (f32, f32, f32) {
-    let (zf, zb, sref, h) = fragment_span(t, parallel, cx, cy);
+    let (dx, dy) = (cx - t.ox, cy - t.oy);
+    let ev = |p: &[f32; 3]| p[0] + p[1] * dx + p[2] * dy;
+    let f = [ev(&t.front[0]), ev(&t.front[1]), ev(&t.front[2])];
+    let b = [ev(&t.back[0]), ev(&t.back[1]), ev(&t.back[2])];
+    let (zf, zb) = if parallel {
+        (f[0].max(f[1]).max(f[2]), b[0].min(b[1]).min(b[2]))
+    } else {
+        let df = f[0].min(f[1]).min(f[2]);
+        let db = b[0].max(b[1]).max(b[2]);
+        // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
+        let w0 = t.w0;
+        (-df / (w0 * (w0 + df)), -db / (w0 * (w0 + db)))
+    };
     let l = ((zb - zf) * stretch).max(0.0);
+    let sref = ev(&t.sref);
+    let h = ev(&t.h);
     let sf = (sref + zf * h).clamp(t.smin, t.smax);
     let sb = (sref + zb * h).clamp(t.smin, t.smax);
     (sf, sb, if l.is_finite() { l } else { 0.0 })
@@ -607,8 +640,73 @@ pub struct PtTimes {
     pub raster: f64,
 }
 
+/// How the CPU's threads share a PT frame. Both give the same image up to float rounding, and
+/// each is deterministic under any thread count.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Schedule {
+    /// Screen tiles in parallel, each walking the tets binned to it in the global order; a tile
+    /// stops once all its pixels are opaque.
+    #[default]
+    Tiles,
+    /// The order cut into [`CHUNKS`] consecutive runs (a K-D tree's leaves are such runs; any
+    /// cut of a visibility order is one), each rendered in parallel into its own buffer over its
+    /// screen box, the buffers then composited front to back.
+    Chunks,
+}
+
+/// Runs of the order for [`Schedule::Chunks`]: fixed, so the image does not depend on the
+/// thread count.
+pub const CHUNKS: usize = 16;
+
+/// Rasterizes one set-up tet into a buffer covering `tile`, with the shader's integration.
+#[inline]
+fn draw(
+    setup: &TetSetup,
+    parallel: bool,
+    tile: (i64, i64, i64, i64),
+    buf: &mut [[f32; 4]],
+    stretch: &[f32],
+    w: usize,
+    shader: &Shader,
+) -> (u64, usize) {
+    match shader {
+        Shader::Pre(tab) => raster(setup, parallel, tile, buf, stretch, w, &|a, b, l| {
+            tab.lookup(a, b, l)
+        }),
+        Shader::Average(tf) => raster(setup, parallel, tile, buf, stretch, w, &|a, b, l| {
+            tf.average(a, b, l)
+        }),
+        Shader::Linear(tf) => raster(setup, parallel, tile, buf, stretch, w, &|a, b, l| {
+            tf.linear(a, b, l)
+        }),
+    }
+}
+
+/// Pixel box (x0, y0, x1, y1), inclusive.
+type PixelBox = (i64, i64, i64, i64);
+
+/// Pixel box (inclusive) of a tet's projection clipped to the image, if it is drawable.
+#[inline]
+fn pixel_box(view: &View, p: &[&Projected; 4], w: usize, h: usize) -> Option<(i64, i64, i64, i64)> {
+    if p.iter().any(|q| !q.ok) {
+        return clip_box(view, p, w, h);
+    }
+    let (mut xmin, mut xmax, mut ymin, mut ymax) = (p[0].fx, p[0].fx, p[0].fy, p[0].fy);
+    for q in &p[1..] {
+        xmin = xmin.min(q.fx);
+        xmax = xmax.max(q.fx);
+        ymin = ymin.min(q.fy);
+        ymax = ymax.max(q.fy);
+    }
+    let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
+    let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
+    let (x0, x1) = (lo(xmin).max(0), hi(xmax).min(w as i64 - 1));
+    let (y0, y1) = (lo(ymin).max(0), hi(ymax).min(h as i64 - 1));
+    (x0 <= x1 && y0 <= y1).then_some((x0, y0, x1, y1))
+}
+
 /// Renders tets in the given front-to-back order (any order is accepted; only a visibility order
-/// gives a correct image).
+/// gives a correct image), with the default [`Schedule`].
 pub fn render(
     view: &View,
     points: &[[f64; 3]],
@@ -616,6 +714,27 @@ pub fn render(
     field: &Field,
     order: &[u32],
     shader: &Shader,
+) -> (Image, PtStats, PtTimes) {
+    render_with(
+        view,
+        points,
+        tets,
+        field,
+        order,
+        shader,
+        Schedule::default(),
+    )
+}
+
+/// [`render`] with a chosen [`Schedule`].
+pub fn render_with(
+    view: &View,
+    points: &[[f64; 3]],
+    tets: &[[u32; 4]],
+    field: &Field,
+    order: &[u32],
+    shader: &Shader,
+    schedule: Schedule,
 ) -> (Image, PtStats, PtTimes) {
     let t0 = std::time::Instant::now();
     let proj = project_points(view, points);
@@ -625,46 +744,323 @@ pub fn render(
         .map(|i| view.stretch((i % w) as f64 + 0.5, (i / w) as f64 + 0.5) as f32)
         .collect();
     let t1 = std::time::Instant::now();
+    let ctx = Ctx {
+        view,
+        tets,
+        field,
+        proj: &proj,
+        stretch: &stretch,
+        shader,
+    };
+    let (img, stats, bin_s) = match schedule {
+        Schedule::Tiles => render_tiles(&ctx, order),
+        Schedule::Chunks => render_chunks(&ctx, order),
+    };
+    let t3 = std::time::Instant::now();
+    (
+        img,
+        stats,
+        PtTimes {
+            project: (t1 - t0).as_secs_f64(),
+            bin: bin_s,
+            raster: (t3 - t1).as_secs_f64() - bin_s,
+        },
+    )
+}
 
+/// Counts tet `p`'s projection class (or that it takes the clipping path), once per tet.
+#[inline]
+fn count_class(st: &mut PtStats, p: &[&Projected; 4]) {
+    if p.iter().any(|q| !q.ok) {
+        st.clipped += 1;
+    } else {
+        let c = classify(&face_areas(&p.map(|q| (q.fx, q.fy))));
+        st.class[class_index(c)] += 1;
+    }
+}
+
+/// What every schedule reads.
+struct Ctx<'a> {
+    view: &'a View,
+    tets: &'a [[u32; 4]],
+    field: &'a Field,
+    proj: &'a [Projected],
+    stretch: &'a [f32],
+    shader: &'a Shader,
+}
+
+impl Ctx<'_> {
+    /// Sets up tet `t` and draws it into `buf` over `tile`: fragments and newly opaque pixels.
+    #[inline]
+    fn tet(&self, t: u32, tile: (i64, i64, i64, i64), buf: &mut [[f32; 4]]) -> (u64, usize) {
+        let tet = &self.tets[t as usize];
+        let pv = tet.map(|v| &self.proj[v as usize]);
+        let s = self.field.at(t as usize, tet);
+        if pv.iter().any(|p| !p.ok) {
+            let (w, h) = (self.view.width as usize, self.view.height as usize);
+            let (Some(c), Some(b)) = (ClipSetup::new(pv, s), clip_box(self.view, &pv, w, h)) else {
+                return (0, 0);
+            };
+            let part = (
+                tile.0.max(b.0),
+                tile.1.max(b.1),
+                tile.2.min(b.2),
+                tile.3.min(b.3),
+            );
+            if part.0 > part.2 || part.1 > part.3 {
+                return (0, 0);
+            }
+            return draw_clipped(&c, self.view, tile, part, buf, self.shader);
+        }
+        let mut scratch = PtStats::default();
+        let Some(setup) = setup_tet(self.view, pv, s, &mut scratch) else {
+            return (0, 0);
+        };
+        draw(
+            &setup,
+            self.view.parallel,
+            tile,
+            buf,
+            self.stretch,
+            self.view.width as usize,
+            self.shader,
+        )
+    }
+}
+
+/// The per-pixel path for tets the rasterizer cannot take: a vertex behind the eye (the eye
+/// inside or beside the tet, in perspective) or projected beyond the guard band. Each pixel's
+/// ray is clipped against the tet's four face planes in view coordinates, and, in perspective,
+/// starts at the eye, as the ray-cast reference's rays do.
+struct ClipSetup {
+    /// Inside where `n . P <= c`, per face.
+    planes: [([f64; 3], f64); 4],
+    /// Scalar at vertex 0 and its gradient, in view coordinates.
+    v0: [f64; 3],
+    s0: f64,
+    g: [f64; 3],
+    smin: f64,
+    smax: f64,
+}
+
+/// Depth below which a point counts as at the eye when bounding a clipped tet on screen.
+const CLIP_NEAR: f64 = 1e-9;
+
+impl ClipSetup {
+    fn new(pv: [&Projected; 4], s: [f64; 4]) -> Option<ClipSetup> {
+        let v = pv.map(|p| p.view);
+        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let cr = |a: [f64; 3], b: [f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let dt = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let e = [1, 2, 3].map(|k| sub(v[k], v[0]));
+        let det = dt(e[0], cr(e[1], e[2]));
+        if !(det != 0.0 && det.is_finite()) {
+            return None;
+        }
+        let mut planes = [([0.0; 3], 0.0); 4];
+        for (f, fv) in FACES.iter().enumerate() {
+            let a = v[fv[0]];
+            let mut n = cr(sub(v[fv[1]], a), sub(v[fv[2]], a));
+            if dt(n, sub(v[f], a)) > 0.0 {
+                n = [-n[0], -n[1], -n[2]];
+            }
+            planes[f] = (n, dt(n, a));
+        }
+        let ds = [1, 2, 3].map(|k| s[k] - s[0]);
+        let (c0, c1, c2) = (cr(e[1], e[2]), cr(e[2], e[0]), cr(e[0], e[1]));
+        let g = [0, 1, 2].map(|a| (ds[0] * c0[a] + ds[1] * c1[a] + ds[2] * c2[a]) / det);
+        Some(ClipSetup {
+            planes,
+            v0: v[0],
+            s0: s[0],
+            g,
+            smin: s.iter().copied().fold(f64::INFINITY, f64::min),
+            smax: s.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        })
+    }
+
+    /// (Sf, Sb, l) of the ray `A + z B` (z the view depth), from `zmin` on.
+    #[inline]
+    fn segment(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64, f64)> {
+        let dt = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+        let (mut z0, mut z1) = (zmin, f64::INFINITY);
+        for (n, c) in &self.planes {
+            let na = dt(*n, a);
+            let nb = dt(*n, b);
+            // n.A + z n.B <= c.
+            if nb > 0.0 {
+                z1 = z1.min((c - na) / nb);
+            } else if nb < 0.0 {
+                z0 = z0.max((c - na) / nb);
+            } else if na > *c {
+                return None;
+            }
+        }
+        if !(z1 > z0) || !z0.is_finite() || !z1.is_finite() {
+            return None;
+        }
+        let at = |z: f64| {
+            let p = [a[0] + z * b[0], a[1] + z * b[1], a[2] + z * b[2]];
+            (self.s0
+                + dt(
+                    self.g,
+                    [p[0] - self.v0[0], p[1] - self.v0[1], p[2] - self.v0[2]],
+                ))
+            .clamp(self.smin, self.smax)
+        };
+        Some((at(z0), at(z1), (z1 - z0) * dt(b, b).sqrt()))
+    }
+}
+
+/// Screen box of a tet with a vertex behind the eye or beyond the guard band: the box of its
+/// part in front of `CLIP_NEAR` (edges cut there), clamped to the image.
+fn clip_box(view: &View, p: &[&Projected; 4], w: usize, h: usize) -> Option<(i64, i64, i64, i64)> {
+    let near = if view.parallel {
+        f64::NEG_INFINITY
+    } else {
+        CLIP_NEAR
+    };
+    let mut pts: Vec<[f64; 3]> = Vec::with_capacity(8);
+    for i in 0..4 {
+        let a = p[i].view;
+        if a[2] >= near {
+            pts.push(a);
+        }
+        for q in &p[i + 1..] {
+            let b = q.view;
+            if (a[2] < near) != (b[2] < near) {
+                let t = (near - a[2]) / (b[2] - a[2]);
+                pts.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), near]);
+            }
+        }
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for v in &pts {
+        let (px, py) = view.screen(v);
+        if !(px.is_finite() && py.is_finite()) {
+            // Too close to the eye plane to place: the whole image.
+            (x0, x1, y0, y1) = (
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+            );
+            break;
+        }
+        x0 = x0.min(px);
+        x1 = x1.max(px);
+        y0 = y0.min(py);
+        y1 = y1.max(py);
+    }
+    if pts.is_empty() {
+        return None;
+    }
+    // Pixel centres i + 0.5 in [min, max], widened by a pixel against rounding.
+    let lo = |v: f64| (v - 1.5).ceil().clamp(0.0, 1e9) as i64;
+    let hi = |v: f64, n: usize| (v + 0.5).floor().clamp(-1.0, n as f64 - 1.0) as i64;
+    let b = (lo(x0), lo(y0), hi(x1, w), hi(y1, h));
+    (b.0 <= b.2 && b.1 <= b.3).then_some(b)
+}
+
+/// Draws a clipped tet pixel by pixel over `part` of the buffer covering `tile` (front to back).
+fn draw_clipped(
+    c: &ClipSetup,
+    view: &View,
+    tile: (i64, i64, i64, i64),
+    part: (i64, i64, i64, i64),
+    buf: &mut [[f32; 4]],
+    shader: &Shader,
+) -> (u64, usize) {
+    let (tx0, ty0, tx1, _) = tile;
+    let tw = (tx1 - tx0 + 1) as usize;
+    let zmin = if view.parallel {
+        f64::NEG_INFINITY
+    } else {
+        0.0
+    };
+    let (mut frags, mut newly) = (0u64, 0usize);
+    for y in part.1..=part.3 {
+        for x in part.0..=part.2 {
+            let slot = &mut buf[(y - ty0) as usize * tw + (x - tx0) as usize];
+            if slot[3] >= OPAQUE {
+                continue;
+            }
+            let (xs, ys) = view.screen_plane(x as f64 + 0.5, y as f64 + 0.5);
+            let (a, b) = if view.parallel {
+                ([view.scale * xs, view.scale * ys, 0.0], [0.0, 0.0, 1.0])
+            } else {
+                ([0.0; 3], [view.scale * xs, view.scale * ys, 1.0])
+            };
+            let Some((sf, sb, l)) = c.segment(a, b, zmin) else {
+                continue;
+            };
+            let (sf, sb, l) = (sf as f32, sb as f32, l as f32);
+            let col = match shader {
+                Shader::Pre(tab) => tab.lookup(sf, sb, l),
+                Shader::Average(tf) => tf.average(sf, sb, l),
+                Shader::Linear(tf) => tf.linear(sf, sb, l),
+            };
+            let k = 1.0 - slot[3];
+            for ch in 0..4 {
+                slot[ch] += k * col[ch];
+            }
+            frags += 1;
+            if slot[3] >= OPAQUE {
+                newly += 1;
+            }
+        }
+    }
+    (frags, newly)
+}
+
+/// [`Schedule::Tiles`]: image, counts, binning seconds.
+fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
+    let t1 = std::time::Instant::now();
+    let (w, h) = (ctx.view.width as usize, ctx.view.height as usize);
     // Bin the ordered tets per tile: chunks of the order in parallel, each chunk keeping its
     // tets in order, so a tile that walks the chunks in turn sees the global order.
     let (ntx, nty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let ntiles = ntx * nty;
     const CHUNK: usize = 1 << 15;
-    let bins: Vec<Vec<Vec<u32>>> = order
+    let binned: Vec<(Vec<Vec<u32>>, PtStats)> = order
         .par_chunks(CHUNK)
         .map(|chunk| {
             let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ntiles];
+            let mut st = PtStats::default();
             for &t in chunk {
-                let tet = &tets[t as usize];
-                let p = tet.map(|v| &proj[v as usize]);
-                if p.iter().any(|q| !q.ok) {
+                let p = ctx.tets[t as usize].map(|v| &ctx.proj[v as usize]);
+                count_class(&mut st, &p);
+                let Some((x0, y0, x1, y1)) = pixel_box(ctx.view, &p, w, h) else {
                     continue;
-                }
-                let xmin = p.iter().map(|q| q.fx).min().unwrap_or(0);
-                let xmax = p.iter().map(|q| q.fx).max().unwrap_or(0);
-                let ymin = p.iter().map(|q| q.fy).min().unwrap_or(0);
-                let ymax = p.iter().map(|q| q.fy).max().unwrap_or(0);
-                let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
-                let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
-                let (x0, x1) = (lo(xmin).max(0), hi(xmax).min(w as i64 - 1));
-                let (y0, y1) = (lo(ymin).max(0), hi(ymax).min(h as i64 - 1));
-                if x0 > x1 || y0 > y1 {
-                    continue;
-                }
+                };
                 for ty in (y0 as usize / TILE)..=(y1 as usize / TILE) {
                     for tx in (x0 as usize / TILE)..=(x1 as usize / TILE) {
                         lists[ty * ntx + tx].push(t);
                     }
                 }
             }
-            lists
+            (lists, st)
         })
         .collect();
-    let t2 = std::time::Instant::now();
+    let mut stats = PtStats::default();
+    for (_, st) in &binned {
+        stats.add(st);
+    }
+    let bins: Vec<Vec<Vec<u32>>> = binned.into_iter().map(|b| b.0).collect();
+    let bin_s = t1.elapsed().as_secs_f64();
 
-    let parallel = view.parallel;
-    let tiles: Vec<(Vec<[f32; 4]>, PtStats)> = (0..ntiles)
+    let tiles: Vec<(Vec<[f32; 4]>, u64)> = (0..ntiles)
         .into_par_iter()
         .map(|ti| {
             let (tx, ty) = (ti % ntx, ti / ntx);
@@ -675,49 +1071,25 @@ pub fn render(
             );
             let npix = ((px1 - px0 + 1) * (py1 - py0 + 1)) as usize;
             let mut buf = vec![[0f32; 4]; npix];
-            let mut stats = PtStats::default();
+            let mut frags = 0u64;
             let mut opaque = 0usize;
             let tile = (px0, py0, px1, py1);
             'outer: for chunk in &bins {
                 for &t in &chunk[ti] {
-                    let tet = &tets[t as usize];
-                    let pv = tet.map(|v| &proj[v as usize]);
-                    let s = field.at(t as usize, tet);
-                    let Some(setup) = setup_tet(view, pv, s, &mut stats) else {
-                        continue;
-                    };
-                    let (f, o) = match shader {
-                        Shader::Pre(tab) => {
-                            raster(&setup, parallel, tile, &mut buf, &stretch, w, &|a, b, l| {
-                                tab.lookup(a, b, l)
-                            })
-                        }
-                        Shader::Average(tf) => {
-                            raster(&setup, parallel, tile, &mut buf, &stretch, w, &|a, b, l| {
-                                tf.average(a, b, l)
-                            })
-                        }
-                        Shader::Linear(tf) => {
-                            raster(&setup, parallel, tile, &mut buf, &stretch, w, &|a, b, l| {
-                                tf.linear(a, b, l)
-                            })
-                        }
-                    };
-                    stats.fragments += f;
+                    let (f, o) = ctx.tet(t, tile, &mut buf);
+                    frags += f;
                     opaque += o;
                     if opaque == npix {
                         break 'outer;
                     }
                 }
             }
-            (buf, stats)
+            (buf, frags)
         })
         .collect();
-    let mut img = Image::new(view.width, view.height);
-    let mut stats = PtStats::default();
-    for (ti, (buf, st)) in tiles.iter().enumerate() {
-        // Tets spanning several tiles are classified once per tile; count each once.
-        stats.fragments += st.fragments;
+    let mut img = Image::new(ctx.view.width, ctx.view.height);
+    for (ti, (buf, f)) in tiles.iter().enumerate() {
+        stats.fragments += f;
         let (tx, ty) = (ti % ntx, ti / ntx);
         let (px0, py0) = (tx * TILE, ty * TILE);
         let tw = (TILE).min(w - px0);
@@ -726,45 +1098,89 @@ pub fn render(
             img.pixels[y * w + px0..y * w + px0 + tw].copy_from_slice(row);
         }
     }
-    let t3 = std::time::Instant::now();
-    // Class counts once per tet (cheap, in parallel).
-    let counts = order
-        .par_chunks(CHUNK)
-        .map(|chunk| {
+    (img, stats, bin_s)
+}
+
+/// [`Schedule::Chunks`]: image, counts, seconds spent finding the chunks' screen boxes.
+fn render_chunks(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
+    let t1 = std::time::Instant::now();
+    let (w, h) = (ctx.view.width as usize, ctx.view.height as usize);
+    let per = order.len().div_ceil(CHUNKS).max(1);
+    let runs: Vec<&[u32]> = order.chunks(per).collect();
+    // Each run's screen box, so a buffer covers only what its run can touch.
+    let boxed: Vec<(Option<PixelBox>, PtStats)> = runs
+        .par_iter()
+        .map(|run| {
+            let mut bb: Option<PixelBox> = None;
             let mut st = PtStats::default();
-            for &t in chunk {
-                let p = tets[t as usize].map(|v| &proj[v as usize]);
-                if p.iter().any(|q| !q.ok) {
-                    st.clipped += 1;
+            for &t in run.iter() {
+                let p = ctx.tets[t as usize].map(|v| &ctx.proj[v as usize]);
+                count_class(&mut st, &p);
+                if let Some(b) = pixel_box(ctx.view, &p, w, h) {
+                    bb = Some(match bb {
+                        None => b,
+                        Some(a) => (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)),
+                    });
+                }
+            }
+            (bb, st)
+        })
+        .collect();
+    let mut stats = PtStats::default();
+    for (_, st) in &boxed {
+        stats.add(st);
+    }
+    let boxes: Vec<Option<PixelBox>> = boxed.iter().map(|b| b.0).collect();
+    let box_s = t1.elapsed().as_secs_f64();
+    let bufs: Vec<(Vec<[f32; 4]>, u64)> = runs
+        .par_iter()
+        .zip(&boxes)
+        .map(|(run, bb)| {
+            let Some(tile) = *bb else {
+                return (Vec::new(), 0);
+            };
+            let npix = ((tile.2 - tile.0 + 1) * (tile.3 - tile.1 + 1)) as usize;
+            let mut buf = vec![[0f32; 4]; npix];
+            let mut frags = 0;
+            for &t in run.iter() {
+                frags += ctx.tet(t, tile, &mut buf).0;
+            }
+            (buf, frags)
+        })
+        .collect();
+    // Front to back: out += (1 - out.a) * run, rows in parallel.
+    let mut img = Image::new(ctx.view.width, ctx.view.height);
+    img.pixels
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let y = y as i64;
+            for ((buf, _), bb) in bufs.iter().zip(&boxes) {
+                let Some((x0, y0, x1, y1)) = *bb else {
+                    continue;
+                };
+                if y < y0 || y > y1 {
                     continue;
                 }
-                let c = classify(&face_areas(&p.map(|q| (q.fx, q.fy))));
-                st.class[class_index(c)] += 1;
+                let bw = (x1 - x0 + 1) as usize;
+                let src = &buf[(y - y0) as usize * bw..][..bw];
+                for (d, s) in row[x0 as usize..=x1 as usize].iter_mut().zip(src) {
+                    let k = 1.0 - d[3];
+                    for c in 0..4 {
+                        d[c] += k * s[c];
+                    }
+                }
             }
-            st
-        })
-        .reduce(PtStats::default, |mut a, b| {
-            a.add(&b);
-            a
         });
-    stats.class = counts.class;
-    stats.clipped = counts.clipped;
-    (
-        img,
-        stats,
-        PtTimes {
-            project: (t1 - t0).as_secs_f64(),
-            bin: (t2 - t1).as_secs_f64(),
-            raster: (t3 - t1).as_secs_f64() - (t2 - t1).as_secs_f64(),
-        },
-    )
+    stats.fragments = bufs.iter().map(|b| b.1).sum();
+    (img, stats, box_s)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::locate::{GridParams, Topology};
-    use crate::mesh::generate::structured_grid;
+    use crate::mesh::generate::{jitter, structured_grid};
     use crate::render::integrate::PreintTable;
     use crate::render::raycast::RayCaster;
     use crate::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
@@ -934,6 +1350,84 @@ mod tests {
         for cam in cams() {
             let (err, st) = compare_with(&m.points, &m.tets, &s, &cam, 40, &tf);
             assert!(err < 0.01, "grid error {err} {st:?}");
+        }
+    }
+
+    /// PT of `m` from `cam` in the MPVO order, with a schedule, against the ray caster.
+    fn against_reference(
+        m: &crate::mesh::TetMesh,
+        cam: &Camera,
+        n: u32,
+        schedule: Schedule,
+    ) -> (f64, PtStats, Image) {
+        use crate::sort::{Direction, Method, Sorter};
+        let s: Vec<f64> = m.point_data.get("scalar").unwrap().data.to_f64_vec();
+        let field = Field::Point(s);
+        let tf = tf();
+        let topo = Topology::build(&m.tets);
+        let rc = RayCaster::new(&m.points, &m.tets, &field, &topo, GridParams::default());
+        let (reference, _) = rc.render(&tf, cam, n, n);
+        let sorter = Sorter::new(m, None).unwrap();
+        let order = sorter
+            .order(cam, Method::Mpvo, Direction::FrontToBack)
+            .order;
+        let lmax = crate::render::prepare::longest_edge(m) * 1.0001;
+        let shader = Shader::Pre(PreintTable::build(&tf, 257, 65, lmax));
+        let view = View::new(cam, n, n);
+        let (img, stats, _) =
+            render_with(&view, &m.points, &m.tets, &field, &order, &shader, schedule);
+        assert!(!img.has_nan());
+        let mut worst = 0.0f64;
+        for (i, (a, b)) in img.pixels.iter().zip(&reference.pixels).enumerate() {
+            if b[3] > 1e-3 {
+                assert!(a[3] > 0.0, "hole at pixel {i}: reference {b:?}");
+            }
+            for k in 0..4 {
+                worst = worst.max((a[k] - b[k]).abs() as f64);
+            }
+        }
+        (worst, stats, img)
+    }
+
+    #[test]
+    fn eye_inside_the_mesh_matches_the_ray_caster() {
+        // The eye inside a tet of a jittered grid, looking along a generic direction: the tets
+        // around the eye reach behind it and take the per-pixel clipping path; the whole image
+        // is covered and matches the reference.
+        let mut m = structured_grid([3, 3, 3], [0.0; 3], [1.0; 3]);
+        jitter(&mut m, [3, 3, 3], 0.15, 11);
+        let cam = Camera {
+            position: [0.47, 0.52, 0.45],
+            focal: [0.9, 0.7, -0.3],
+            view_angle: 70.0,
+            ..Camera::default()
+        };
+        for schedule in [Schedule::Tiles, Schedule::Chunks] {
+            let (err, st, img) = against_reference(&m, &cam, 40, schedule);
+            assert!(st.clipped > 0, "{st:?}");
+            assert!(
+                img.pixels.iter().all(|p| p[3] > 0.0),
+                "the eye is inside: every pixel sees the mesh"
+            );
+            assert!(err < 0.005, "{schedule:?}: error {err} {st:?}");
+        }
+    }
+
+    #[test]
+    fn schedules_agree() {
+        let mut m = structured_grid([4, 4, 4], [0.0; 3], [1.0; 3]);
+        jitter(&mut m, [4, 4, 4], 0.2, 3);
+        let mut cam = Camera::default();
+        cam.reset_to(&m.bounds());
+        cam.azimuth(25.0);
+        cam.elevation(15.0);
+        let (e1, _, a) = against_reference(&m, &cam, 48, Schedule::Tiles);
+        let (e2, _, b) = against_reference(&m, &cam, 48, Schedule::Chunks);
+        assert!(e1 < 0.02 && e2 < 0.02, "{e1} {e2}");
+        for (p, q) in a.pixels.iter().zip(&b.pixels) {
+            for k in 0..4 {
+                assert!((p[k] - q[k]).abs() < 1e-5, "{p:?} {q:?}");
+            }
         }
     }
 }

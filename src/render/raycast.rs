@@ -12,7 +12,7 @@ use super::integrate::exact_segment;
 use super::pt::FACES;
 use super::transfer::TransferFunction;
 use crate::camera::Camera;
-use crate::locate::{barycentric, BoundaryIndex, GridParams, TetLocator, Topology, NONE};
+use crate::locate::{BoundaryIndex, GridParams, TetLocator, Topology, NONE};
 use rayon::prelude::*;
 
 /// Everything the ray caster reuses between frames.
@@ -57,18 +57,10 @@ impl<'a> RayCaster<'a> {
         }
     }
 
-    fn scalar_at(&self, tet: u32, p: &[f64; 3]) -> f64 {
-        let t = &self.tets[tet as usize];
-        let v = t.map(|i| self.points[i as usize]);
-        let b = barycentric(&v, p);
-        let s = self.field.at(tet as usize, t);
-        let val = b[0] * s[0] + b[1] * s[1] + b[2] * s[2] + b[3] * s[3];
-        let lo = s.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        val.clamp(lo, hi)
-    }
-
-    /// Leaves `tet` (entered through `entry` at `tin`): exit parameter and face.
+    /// Leaves `tet` (entered through `entry` at `tin`): exit parameter, exit face, and the
+    /// scalar at `tin` and at the exit. The scalar comes from the same four face planes that
+    /// find the exit (barycentric coordinates along the ray are linear in `t`), clamped to the
+    /// tet's values.
     fn exit(
         &self,
         tet: u32,
@@ -76,31 +68,55 @@ impl<'a> RayCaster<'a> {
         o: &[f64; 3],
         d: &[f64; 3],
         tin: f64,
-    ) -> Option<(f64, u8)> {
+    ) -> Option<(f64, u8, f64, f64)> {
         let t = &self.tets[tet as usize];
         let v = t.map(|i| self.points[i as usize]);
+        let s = self.field.at(tet as usize, t);
         let mut best: Option<(f64, u8)> = None;
+        // Barycentric coordinate of face f's opposite vertex along the ray: (c0 + t c1) / h.
+        // (A flat tet gives 1/h infinite; `at` then falls back to the mean.)
+        let mut lam = [[0.0f64; 3]; 4];
         for (f, fv) in FACES.iter().enumerate() {
-            if entry == Some(f as u8) {
-                continue;
-            }
             let a = v[fv[0]];
             let e1 = sub(&v[fv[1]], &a);
             let e2 = sub(&v[fv[2]], &a);
             let mut n = cross(&e1, &e2);
-            if dot(&n, &sub(&v[f], &a)) > 0.0 {
+            let mut h = dot(&n, &sub(&v[f], &a));
+            if h > 0.0 {
                 n = [-n[0], -n[1], -n[2]];
+                h = -h;
             }
             let dn = dot(&n, d);
-            if !(dn > 0.0) {
+            let oa = dot(&n, &sub(o, &a));
+            lam[f] = [oa, dn, 1.0 / h];
+            if entry == Some(f as u8) || !(dn > 0.0) {
                 continue;
             }
-            let tf = dot(&n, &sub(&a, o)) / dn;
+            let tf = -oa / dn;
             if tf.is_finite() && best.is_none_or(|b| tf < b.0) {
                 best = Some((tf, f as u8));
             }
         }
-        best.map(|(t, f)| (t.max(tin), f))
+        let (tout, face) = best?;
+        let tout = tout.max(tin);
+        let lo = s.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let at = |tt: f64| {
+            let (mut val, mut sum) = (0.0, 0.0);
+            for f in 0..4 {
+                let [c0, c1, inv_h] = lam[f];
+                let l = (c0 + tt * c1) * inv_h;
+                val += s[f] * l;
+                sum += l;
+            }
+            // A flat tet has no barycentric coordinates: its mean value.
+            if sum.is_finite() && sum != 0.0 && val.is_finite() {
+                (val / sum).clamp(lo, hi)
+            } else {
+                0.25 * (s[0] + s[1] + s[2] + s[3])
+            }
+        };
+        Some((tout, face, at(tin), at(tout)))
     }
 
     /// Premultiplied RGBA of one ray from `o` along unit `d`, starting at `t = 0`.
@@ -128,7 +144,6 @@ impl<'a> RayCaster<'a> {
     ) -> [f64; 4] {
         let mut color = [0.0f64; 3];
         let mut trans = 1.0f64;
-        let point = |t: f64| [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
         // Start inside the mesh when the ray origin is.
         let mut cur: Option<(u32, Option<u8>, f64)> = None;
         if self.locator.grid.bounds().contains(o) {
@@ -162,17 +177,15 @@ impl<'a> RayCaster<'a> {
                     }
                 }
             };
-            let mut sin = self.scalar_at(tet, &point(tin));
             loop {
                 steps += 1;
                 if steps > budget {
                     break 'rays;
                 }
-                let Some((tout, ef)) = self.exit(tet, face, o, d, tin) else {
+                let Some((tout, ef, sin, sout)) = self.exit(tet, face, o, d, tin) else {
                     stats.lost += 1;
                     break;
                 };
-                let sout = self.scalar_at(tet, &point(tout));
                 let seg = seg(tin, tout, sin, sout);
                 stats.segments += 1;
                 for k in 0..3 {
@@ -198,7 +211,6 @@ impl<'a> RayCaster<'a> {
                 face = back;
                 tet = nb;
                 tin = tout;
-                sin = sout;
             }
         }
         [color[0], color[1], color[2], 1.0 - trans]
@@ -245,6 +257,18 @@ impl<'a> RayCaster<'a> {
         width: u32,
         height: u32,
     ) -> (Image, RayStats) {
+        self.render_with(&|a, b, l| exact_segment(tf, a, b, l), cam, width, height)
+    }
+
+    /// [`Self::render`] with another integration of each segment, e.g. the pre-integration
+    /// table's lookup (what VTK's ray caster does): faster, no longer exact.
+    pub fn render_with<F: Fn(f64, f64, f64) -> [f64; 4] + Sync>(
+        &self,
+        segment: &F,
+        cam: &Camera,
+        width: u32,
+        height: u32,
+    ) -> (Image, RayStats) {
         let w = width as usize;
         let rows: Vec<(Vec<[f32; 4]>, RayStats)> = (0..height as usize)
             .into_par_iter()
@@ -254,7 +278,10 @@ impl<'a> RayCaster<'a> {
                     .map(|x| {
                         let (o, d) =
                             self.pixel_ray(cam, x as f64 + 0.5, y as f64 + 0.5, width, height);
-                        self.trace(tf, &o, &d, &mut st).map(|v| v as f32)
+                        self.trace_with(&o, &d, &mut st, |tin, tout, a, b| {
+                            segment(a, b, tout - tin)
+                        })
+                        .map(|v| v as f32)
                     })
                     .collect();
                 (row, st)
@@ -289,6 +316,7 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::locate::barycentric;
     use crate::mesh::generate::{jitter, structured_grid};
     use crate::render::transfer::{named_colormap, OpacitySpec};
 

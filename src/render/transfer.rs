@@ -369,7 +369,9 @@ impl TransferFunction {
     /// Colour and extinction at node position `x` (linear between nodes).
     pub fn at_pos(&self, x: f64) -> ([f64; 3], f64) {
         let last = self.nodes() - 1;
-        let i = (x.floor().max(0.0) as usize).min(last);
+        // Truncation is the floor for x >= 0 (and NaN or x < 0 give 0 either way), without a
+        // libm call.
+        let i = (x.max(0.0) as usize).min(last);
         if i == last {
             return (self.rgb[last], self.tau[last]);
         }
