@@ -582,26 +582,7 @@ pub fn pt_render(
     sv.culling = look.culling;
     let mesh_box = Aabb::of_points(points.iter());
     let mesh_fp: Footprint = footprint(&mesh_box, cam, view.width, view.height);
-    // Depths of the mesh's box along the view direction.
-    let (mut mz0, mut mz1) = (f64::INFINITY, f64::NEG_INFINITY);
-    for i in 0..8 {
-        let c = [0, 1, 2].map(|k| {
-            if i >> k & 1 == 0 {
-                mesh_box.min[k]
-            } else {
-                mesh_box.max[k]
-            }
-        });
-        let z = view.to_view(&c)[2];
-        mz0 = mz0.min(z);
-        mz1 = mz1.max(z);
-    }
-    // Parallel rays start behind everything PT draws (it draws behind the camera plane too).
-    let back = if view.parallel && mz0 < 0.0 {
-        -mz0 + 1.0
-    } else {
-        0.0
-    };
+    let (mz0, mz1, back) = mesh_depths(view, &mesh_box);
     let fwd = view.f;
     let (ntx, nty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let ntiles = ntx * nty;
@@ -850,4 +831,28 @@ pub fn pt_render(
         }
     }
     (img, stats, rep)
+}
+/// The depth range of the mesh's box along the view direction, and how far parallel rays start
+/// behind the camera plane so they begin behind everything PT draws (it draws behind the camera
+/// plane too); 0 in perspective or when the box is in front.
+pub(crate) fn mesh_depths(view: &View, mesh_box: &Aabb) -> (f64, f64, f64) {
+    let (mut mz0, mut mz1) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..8 {
+        let c = [0, 1, 2].map(|k| {
+            if i >> k & 1 == 0 {
+                mesh_box.min[k]
+            } else {
+                mesh_box.max[k]
+            }
+        });
+        let z = view.to_view(&c)[2];
+        mz0 = mz0.min(z);
+        mz1 = mz1.max(z);
+    }
+    let back = if view.parallel && mz0 < 0.0 {
+        -mz0 + 1.0
+    } else {
+        0.0
+    };
+    (mz0, mz1, back)
 }

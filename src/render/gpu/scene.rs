@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::geom::{dot, Aabb};
-use crate::render::cut::{SceneLook, CUT};
+use crate::render::cut::{mesh_depths, SceneLook, CUT};
 use crate::render::integrate::Integration;
 use crate::render::prepare::{self, TableSize};
 use crate::render::pt::{Shader, View};
@@ -36,24 +36,7 @@ pub fn crossings(view: &View, cam: &Camera, look: &SceneLook, mesh_box: &Aabb) -
     let mut sv = SceneView::new(look.scene, *cam, view.width, view.height);
     sv.culling = look.culling;
     let mesh_fp = footprint(mesh_box, cam, view.width, view.height);
-    let (mut mz0, mut mz1) = (f64::INFINITY, f64::NEG_INFINITY);
-    for i in 0..8 {
-        let c = [0, 1, 2].map(|k| {
-            if i >> k & 1 == 0 {
-                mesh_box.min[k]
-            } else {
-                mesh_box.max[k]
-            }
-        });
-        let z = view.to_view(&c)[2];
-        mz0 = mz0.min(z);
-        mz1 = mz1.max(z);
-    }
-    let back = if view.parallel && mz0 < 0.0 {
-        -mz0 + 1.0
-    } else {
-        0.0
-    };
+    let (mz0, mz1, back) = mesh_depths(view, mesh_box);
     type Row = (Vec<(u8, Vec<(f32, u8)>)>, [bool; 256], u64);
     let rows: Vec<Row> = (0..h)
         .into_par_iter()
