@@ -752,10 +752,10 @@ for res in (8, 16, 32, 64):
     assert!(prev < 0.01, "{prev}");
 }
 
-/// Two views where plain PT was once 0.10 and 0.069 off the ray caster at single pixels (a nearly
-/// edge-on face flipped sign when snapped to the 1/256-pixel grid and its tet was dropped; fixed
-/// by deciding front/back from the unsnapped projection). Measured after the fix: max 2.8e-4 and
-/// 7.0e-4.
+/// Two views where plain PT was seen 0.10 and 0.069 off the ray caster at single pixels, on a
+/// branch without 323da7b (which decides a face's front/back from its unsnapped projection: a
+/// nearly edge-on face could flip sign on the 1/256-pixel grid and drop its tet), so most likely
+/// that bug. On main they measure max 2.8e-4 and 7.0e-4.
 #[test]
 fn plain_pt_matches_the_ray_caster_at_former_outlier_views() {
     let cases = [
