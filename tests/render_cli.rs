@@ -1,26 +1,15 @@
 //! `tetkit render`, `probe` and `tradeoff` run as the real binary on a Gmsh fixture.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
 
 fn tetkit(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_tetkit"))
-        .args(args)
-        .output()
-        .expect("running tetkit");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::tetkit(args).parts()
 }
 
 fn fixture(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(rel)
-        .display()
-        .to_string()
+    common::fixture(rel).display().to_string()
 }
 
 fn png_size(p: &Path) -> (u32, u32) {

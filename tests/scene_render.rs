@@ -468,23 +468,11 @@ fn a_tessellated_sphere_converges_to_the_analytic_sphere() {
 }
 
 fn tetkit_cli(args: &[&str]) -> (bool, String, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetkit"))
-        .args(args)
-        .output()
-        .expect("running tetkit");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::tetkit(args).parts()
 }
 
 fn fixture(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(rel)
-        .display()
-        .to_string()
+    common::fixture(rel).display().to_string()
 }
 
 #[test]

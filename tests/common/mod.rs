@@ -56,6 +56,11 @@ impl Run {
         String::from_utf8_lossy(&self.stdout).into_owned()
     }
 
+    /// (success, stdout, stderr), for tests that look at all three.
+    pub fn parts(&self) -> (bool, String, String) {
+        (self.success(), self.stdout_str(), self.stderr.clone())
+    }
+
     /// Panics with the command, exit code and stderr unless the run succeeded.
     #[track_caller]
     pub fn assert_success(&self) -> &Run {
