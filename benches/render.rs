@@ -3,6 +3,9 @@
 //! the per-mesh setup (adjacency, leaves, tables, grids) outside the timed loop.
 //! Sizes: TETKIT_BENCH_CUBES=n gives 6 n^3 tets (default 24: 83k tets).
 
+mod common;
+use common::OrExit;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use tetkit::camera::Camera;
 use tetkit::locate::{GridParams, Topology};
@@ -22,21 +25,27 @@ fn bench(c: &mut Criterion) {
         .unwrap_or(24);
     let mut m = structured_grid([n; 3], [0.0; 3], [1.0; 3]);
     jitter(&mut m, [n; 3], 0.2, 5);
-    let field = Field::Point(m.point_data.get("scalar").unwrap().data.to_f64_vec());
+    let field = Field::Point(
+        m.point_data
+            .get("scalar")
+            .or_exit("the generated mesh's array 'scalar'")
+            .data
+            .to_f64_vec(),
+    );
     let tf = TransferFunction::build(
-        &named_colormap("cool-to-warm").unwrap(),
-        Some(&OpacitySpec::parse("ramp").unwrap()),
+        &named_colormap("cool-to-warm").or_exit("colormap"),
+        Some(&OpacitySpec::parse("ramp").or_exit("opacity")),
         [0.0, 1.0],
         prepare::default_unit_distance(&m),
         256,
     )
-    .unwrap();
+    .or_exit("transfer function");
     let mut cam = Camera::default();
     cam.reset_to(&m.bounds());
     cam.azimuth(30.0);
     cam.elevation(20.0);
     let view = View::new(&cam, 512, 512);
-    let sorter = Sorter::new(&m, None).unwrap();
+    let sorter = Sorter::new(&m, None).or_exit("building the sorter");
     let lmax = prepare::longest_edge(&m);
     let pre = prepare::shader(&tf, Integration::Preintegrated, TableSize::default(), lmax);
     let avg = prepare::shader(&tf, Integration::Average, TableSize::default(), lmax);

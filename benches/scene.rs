@@ -4,6 +4,9 @@
 //!
 //! `cargo bench --bench scene` (add `-- classify` or `-- pixels` to pick a group).
 
+mod common;
+use common::OrExit;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::Path;
 use std::time::Duration;
@@ -47,7 +50,7 @@ fn uv_sphere_obj(dir: &Path, n: usize) -> std::path::PathBuf {
         }
     }
     let p = dir.join("sphere.obj");
-    std::fs::write(&p, text).expect("writing the bench sphere");
+    std::fs::write(&p, text).or_exit("writing the bench sphere");
     p
 }
 
@@ -60,12 +63,12 @@ fn scenes(dir: &Path) -> Vec<(&'static str, scene::Scene)> {
         ("surface_sphere_960_tris", format!("[[body]]\nshape = \"surface\"\nfile = \"{}\"\n", obj.display())),
     ]
     .into_iter()
-    .map(|(n, t)| (n, scene::parse(&t, Path::new("bench.toml")).expect("bench scene")))
+    .map(|(n, t)| (n, scene::parse(&t, Path::new("bench.toml")).or_exit("bench scene")))
     .collect()
 }
 
 fn bench_classify(c: &mut Criterion) {
-    let dir = tempfile::tempdir().expect("tempdir");
+    let dir = tempfile::tempdir().or_exit("tempdir");
     let m = mesh();
     let mut g = c.benchmark_group("classify_1M_tets");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
@@ -76,7 +79,7 @@ fn bench_classify(c: &mut Criterion) {
 }
 
 fn bench_pixels(c: &mut Criterion) {
-    let dir = tempfile::tempdir().expect("tempdir");
+    let dir = tempfile::tempdir().or_exit("tempdir");
     let mut cam = Camera::default();
     cam.reset_to(&tetkit::geom::Aabb {
         min: [0.0; 3],

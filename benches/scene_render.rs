@@ -6,6 +6,9 @@
 //! `cargo bench --bench scene_render` (add `-- cost` or `-- table2` to pick a group). The machine
 //! is shared: compare ratios within one run, with `uptime` next to them.
 
+mod common;
+use common::OrExit;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::Path;
 use std::time::Duration;
@@ -40,26 +43,26 @@ fn setup() -> Setup {
     let field = Field::Point(
         mesh.point_data
             .get("scalar")
-            .expect("generated scalar")
+            .or_exit("generated scalar")
             .data
             .to_f64_vec(),
     );
     let unit = prepare::default_unit_distance(&mesh);
-    let colors = named_colormap("cool-to-warm").expect("colormap");
+    let colors = named_colormap("cool-to-warm").or_exit("colormap");
     let tf = TransferFunction::build(
         &colors,
-        Some(&OpacitySpec::parse("0:0.05,0.5:0.3,1:0.6").expect("opacity")),
+        Some(&OpacitySpec::parse("0:0.05,0.5:0.3,1:0.6").or_exit("opacity")),
         [0.0, 1.0],
         unit,
         64,
     )
-    .expect("tf");
+    .or_exit("tf");
     let mut cam = Camera::default();
     cam.reset_to(&mesh.bounds());
     cam.azimuth(30.0);
     cam.elevation(20.0);
     let order = Sorter::new(&mesh, None)
-        .expect("sorter")
+        .or_exit("sorter")
         .order(&cam, Method::Kd, Direction::FrontToBack)
         .order;
     let lmax = prepare::longest_edge(&mesh);
@@ -80,7 +83,7 @@ fn setup() -> Setup {
 }
 
 fn parse(text: &str) -> Scene {
-    scene::parse(text, Path::new("bench.toml")).expect("bench scene")
+    scene::parse(text, Path::new("bench.toml")).or_exit("bench scene")
 }
 
 /// A sphere body with its own colours and the default's opacity: the region classes then change
@@ -100,11 +103,11 @@ fn frame(s: &Setup, scene: Option<&Scene>, culling: bool, cache: &mut ShaderCach
     let view = View::new(&s.cam, SIZE, SIZE);
     let img = match scene.filter(|sc| !sc.bodies.is_empty()) {
         None => {
-            let sh = cache.default_shader().expect("default shader prebuilt");
+            let sh = cache.default_shader().or_exit("default shader prebuilt");
             pt::render(&view, &s.mesh.points, &s.mesh.tets, &s.field, &s.order, sh).0
         }
         Some(sc) => {
-            let mut look = SceneLook::new(sc, &s.tf, &s.base).expect("scene look");
+            let mut look = SceneLook::new(sc, &s.tf, &s.base).or_exit("scene look");
             look.culling = culling;
             cut::pt_render(
                 &view,

@@ -9,6 +9,9 @@
 //!
 //! `cargo bench --bench sort` (TETKIT_BENCH_N=55 sets the 1M grids' cubes per side).
 
+mod common;
+use common::OrExit;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::time::Instant;
 
@@ -133,7 +136,7 @@ fn table1_on(name: &str, mesh: &TetMesh, cam: &Camera) {
     let mut base = None;
     for leaves in [1, 2, 4] {
         let tree = slab_tree(leaves, mesh.bounds(), 0);
-        let s = Sorter::new(mesh, tree.as_ref()).unwrap();
+        let s = Sorter::new(mesh, tree.as_ref()).or_exit("building the sorter");
         let o = s.order(cam, Method::Kd, Direction::BackToFront);
         let t = median_time(7, || {
             std::hint::black_box(s.order(cam, Method::Kd, Direction::BackToFront));
@@ -157,7 +160,10 @@ fn holed_grid(n: usize, jittered: bool) -> TetMesh {
     if jittered {
         jitter(&mut m, [n, n, n], 0.2, 7);
     }
-    let cube = m.cell_data.get("cube_id").unwrap();
+    let cube = m
+        .cell_data
+        .get("cube_id")
+        .or_exit("the generated mesh's array 'cube_id'");
     let (lo, hi) = (n / 4, n / 4 + n / 8);
     let keep: Vec<usize> = (0..m.tets.len())
         .filter(|&t| {
@@ -248,7 +254,7 @@ fn table1() {
 /// outside and from inside a tunnel: the extra constraints and big-integer fallbacks it needed.
 fn nonconvex_per_view(n: usize) {
     let mesh = holed_grid(n, true);
-    let s = Sorter::new(&mesh, None).unwrap();
+    let s = Sorter::new(&mesh, None).or_exit("building the sorter");
     eprintln!(
         "\nNon-convex per view: {} tets (jittered {n}^3 grid, two tunnels and a cavity), one leaf",
         mesh.tets.len()
@@ -285,7 +291,7 @@ fn uptime() -> String {
 }
 
 fn write_raw(mesh: &TetMesh, dir: &std::path::Path) -> (std::path::PathBuf, std::path::PathBuf) {
-    std::fs::create_dir_all(dir).unwrap();
+    std::fs::create_dir_all(dir).or_exit("writing the TetGen input");
     let p = dir.join("points.f64");
     let t = dir.join("tets.i64");
     let pts: Vec<u8> = mesh
@@ -300,8 +306,8 @@ fn write_raw(mesh: &TetMesh, dir: &std::path::Path) -> (std::path::PathBuf, std:
         .flatten()
         .flat_map(|&v| (v as i64).to_le_bytes())
         .collect();
-    std::fs::write(&p, pts).unwrap();
-    std::fs::write(&t, tets).unwrap();
+    std::fs::write(&p, pts).or_exit("writing the TetGen input");
+    std::fs::write(&t, tets).or_exit("writing the TetGen input");
     (p, t)
 }
 
@@ -314,7 +320,7 @@ fn million_vs_vtk() {
     jitter(&mut mesh, [n, n, n], 0.2, 1);
     let cam = camera_oblique();
     let t0 = Instant::now();
-    let s = Sorter::new(&mesh, None).unwrap();
+    let s = Sorter::new(&mesh, None).or_exit("building the sorter");
     let setup = t0.elapsed().as_secs_f64();
     eprintln!(
         "\n1M-tet sort per view: {} tets (jittered {n}^3 grid), adjacency set-up {setup:.3} s once",
@@ -381,7 +387,7 @@ fn benches(c: &mut Criterion) {
     let mut mesh = structured_grid([n, n, n], [0.0; 3], [1.0; 3]);
     jitter(&mut mesh, [n, n, n], 0.2, 1);
     let cam = camera_oblique();
-    let s = Sorter::new(&mesh, None).unwrap();
+    let s = Sorter::new(&mesh, None).or_exit("building the sorter");
     let mut g = c.benchmark_group("sort_162k_tets");
     g.sample_size(10);
     for m in [Method::Kd, Method::Mpvo, Method::Centroid] {
@@ -390,7 +396,13 @@ fn benches(c: &mut Criterion) {
         });
     }
     g.bench_function("adjacency_setup", |b| {
-        b.iter(|| std::hint::black_box(Sorter::new(&mesh, None).unwrap().num_leaves()))
+        b.iter(|| {
+            std::hint::black_box(
+                Sorter::new(&mesh, None)
+                    .or_exit("building the sorter")
+                    .num_leaves(),
+            )
+        })
     });
     g.finish();
 }
