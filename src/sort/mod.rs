@@ -20,7 +20,7 @@ use std::time::Instant;
 use crate::camera::Camera;
 use crate::mesh::TetMesh;
 use crate::partition::KdTree;
-use adjacency::{sorted_face, Adjacency, NONE};
+use adjacency::{face_vertices, Adjacency, NONE};
 
 /// How to order the tets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, clap::ValueEnum)]
@@ -102,6 +102,10 @@ pub struct Sorter<'m> {
     same_leaf: Vec<u8>,
     /// Bit `i`: the neighbour across face `i` exists.
     any_neighbor: Vec<u8>,
+    /// Bit `i`: a tet is in front across face `i` when the sign of `orient3d(face i in tet order,
+    /// eye)` is positive (set) or negative (clear): the parity of sorting the face's vertex ids
+    /// XOR [`Adjacency::positive_side`], so both tets of a face read one consistent decision.
+    flip: Vec<u8>,
     /// `0..n`, the single leaf of `mpvo`.
     all_tets: Vec<u32>,
     /// Boundary faces of each non-convex leaf (`None` for convex leaves).
@@ -168,8 +172,19 @@ impl<'m> Sorter<'m> {
             .par_iter()
             .map(|nb| (0..4).fold(0u8, |m, i| m | (((nb[i] != NONE) as u8) << i)))
             .collect();
+        let flip: Vec<u8> = (0..n)
+            .into_par_iter()
+            .map(|t| {
+                (0..4).fold(0u8, |bits, i| {
+                    let f = face_vertices(&mesh.tets[t], i);
+                    let odd = ((f[0] > f[1]) as u8 ^ (f[0] > f[2]) as u8 ^ (f[1] > f[2]) as u8) & 1;
+                    bits | ((odd ^ (adj.positive_side[t] >> i & 1)) << i)
+                })
+            })
+            .collect();
         Ok(Sorter {
             mesh,
+            flip,
             any_neighbor,
             all_tets: (0..n as u32).collect(),
             adj,
@@ -219,13 +234,13 @@ impl<'m> Sorter<'m> {
     }
 
     fn peel_order(&self, cam: &Camera, dir: Direction, kd: bool) -> Order {
+        let __t = Instant::now();
         let viewpoint = cam.viewpoint();
         let view = &viewpoint;
         let mesh = self.mesh;
         let n = mesh.tets.len();
         let ftb = dir == Direction::FrontToBack;
         let nbr = &self.adj.neighbors;
-        let side = &self.adj.positive_side;
         let mask_of = |t: usize| -> u8 {
             if kd {
                 self.same_leaf[t]
@@ -233,67 +248,38 @@ impl<'m> Sorter<'m> {
                 self.any_neighbor[t]
             }
         };
-        // Pass 1: each shared face evaluated once, by its lower tet. Bit i: this tet is in front
-        // across face i (the eye is on its side); bit 4 + i: behind; neither: seen edge-on.
-        let front: Vec<u8> = (0..n)
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|t| {
-                let tet = &mesh.tets[t];
-                let mut out = 0u8;
-                let mut bits = mask_of(t);
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    if (nbr[t][i] as usize) < t {
-                        continue;
-                    }
-                    let f = sorted_face(tet, i);
-                    let s = side::eye_side(
-                        view,
-                        &mesh.points[f[0] as usize],
-                        &mesh.points[f[1] as usize],
-                        &mesh.points[f[2] as usize],
-                    );
-                    if s != 0 {
-                        let in_front = (s > 0) == (side[t] >> i & 1 == 1);
-                        out |= if in_front { 1 << i } else { 16 << i };
-                    }
-                }
-                out
-            })
-            .collect();
-        // Pass 2: per tet, which faces lead to a successor (post) and how many predecessors.
-        let mirror = &self.adj.mirror;
+        // One pass over tets: each tet judges all its faces itself (the four share their minors),
+        // so no per-face array has to be read back across neighbours. Both tets of a face get the
+        // same exact sign, so they always agree on who is in front. Bit i of `post`: the tet
+        // across face i comes after this one; `indeg`: how many come before it.
+        let flip = &self.flip;
         let (mut post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
             .into_par_iter()
             .with_min_len(4096)
             .map(|t| {
                 let (mut post, mut pre) = (0u8, 0u32);
-                let mut bits = mask_of(t);
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let m = nbr[t][i] as usize;
-                    let (ahead, behind) = if m > t {
-                        (front[t] >> i & 1, front[t] >> (4 + i) & 1)
-                    } else {
-                        let j = (mirror[t] >> (2 * i) & 3) as usize;
-                        (front[m] >> (4 + j) & 1, front[m] >> j & 1)
-                    };
-                    if ahead | behind == 0 {
-                        continue;
-                    }
-                    if (ahead == 1) == ftb {
-                        post |= 1 << i;
-                    } else {
-                        pre += 1;
+                let mask = mask_of(t);
+                if mask != 0 {
+                    let p = mesh.tets[t].map(|v| mesh.points[v as usize]);
+                    let s = side::tet_sides(view, &p, mask);
+                    let mut bits = mask;
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        if s[i] == 0 {
+                            continue; // seen edge-on: no constraint
+                        }
+                        let in_front = (s[i] > 0) == (flip[t] >> i & 1 == 1);
+                        if in_front == ftb {
+                            post |= 1 << i;
+                        } else {
+                            pre += 1;
+                        }
                     }
                 }
                 (post, AtomicU32::new(pre))
             })
             .unzip();
-        drop(front);
         let face_constraints = post.par_iter().map(|b| b.count_ones() as usize).sum();
         let leaves: &[Vec<u32>] = if kd {
             &self.leaf_tets
@@ -332,7 +318,11 @@ impl<'m> Sorter<'m> {
             }
             (off, extra.iter().map(|e| e.1).collect::<Vec<u32>>())
         };
-        let layer: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(peel::UNSET)).collect();
+        if std::env::var_os("PROF").is_some() { eprintln!("extra {:.4}", __t.elapsed().as_secs_f64()); }
+        let dfs = std::env::var("DFS").as_deref() == Ok("1");
+        let layer: Vec<AtomicU32> = (0..n)
+            .map(|_| AtomicU32::new(if dfs { 0 } else { peel::UNSET }))
+            .collect();
         let g = peel::Graph {
             neighbors: nbr,
             post: &post,
@@ -341,9 +331,19 @@ impl<'m> Sorter<'m> {
         };
         let results: Vec<peel::PeelResult> = leaves
             .par_iter()
-            .map(|tets| peel::peel(&g, tets, &indeg, &layer))
+            .map(|tets| {
+                if dfs {
+                    peel::peel_depth_first(&g, tets, &indeg, &layer)
+                } else {
+                    peel::peel(&g, tets, &indeg, &layer)
+                }
+            })
             .collect();
-        let layer: Vec<u32> = layer.into_iter().map(|a| a.into_inner()).collect();
+        if std::env::var_os("PROF").is_some() { eprintln!("peel {:.4}", __t.elapsed().as_secs_f64()); }
+        let layer: Vec<u32> = layer
+            .into_iter()
+            .map(|a| a.into_inner() & !peel::PLACED)
+            .collect();
         let mut leaf_order: Vec<u32> = if kd {
             self.tree.leaf_order_front_to_back(view)
         } else {
@@ -362,6 +362,7 @@ impl<'m> Sorter<'m> {
         if !ftb {
             leaf_order.reverse();
         }
+        if std::env::var_os("PROF").is_some() { eprintln!("layerconv+leaforder {:.4}", __t.elapsed().as_secs_f64()); }
         // Within a leaf: by layer, then by tet id (deterministic), by counting sort.
         let per_leaf: Vec<Vec<u32>> = leaf_order
             .par_iter()
@@ -388,6 +389,7 @@ impl<'m> Sorter<'m> {
         for v in per_leaf {
             order.extend_from_slice(&v);
         }
+        if std::env::var_os("PROF").is_some() { eprintln!("final {:.4}", __t.elapsed().as_secs_f64()); }
         let mut stats = SortStats {
             leaves: leaves.len(),
             face_constraints,

@@ -142,6 +142,76 @@ pub fn peel(g: &Graph, tets: &[u32], indeg: &[AtomicU32], layer: &[AtomicU32]) -
     res
 }
 
+/// Bit of a `layer` entry in [`peel_depth_first`] set once the tet is placed.
+pub const PLACED: u32 = 1 << 31;
+
+/// The same layers as [`peel`] (layer = 1 + the highest layer of its predecessors, sources 0, a
+/// tet released to break a cycle one past every layer placed so far), found in depth-first order:
+/// a tet is handled right after its last predecessor, while the counters it shares with it are
+/// still in cache. `layer` must start at 0; each entry ends as its layer with [`PLACED`] set.
+/// One thread per leaf: plain loads and stores on the counters.
+pub fn peel_depth_first(
+    g: &Graph,
+    tets: &[u32],
+    indeg: &[AtomicU32],
+    layer: &[AtomicU32],
+) -> PeelResult {
+    let mut res = PeelResult::default();
+    let mut stack: Vec<u32> = tets
+        .iter()
+        .copied()
+        .filter(|&t| indeg[t as usize].load(Relaxed) == 0)
+        .collect();
+    let mut placed = 0usize;
+    let mut layers = 0u32;
+    let mut in_cycle: HashMap<u32, ()> = HashMap::new();
+    loop {
+        while let Some(t) = stack.pop() {
+            let l = layer[t as usize].load(Relaxed);
+            layer[t as usize].store(l | PLACED, Relaxed);
+            placed += 1;
+            layers = layers.max(l + 1);
+            g.for_each_successor(t, |n| {
+                let c = &indeg[n as usize];
+                let v = c.load(Relaxed).wrapping_sub(1);
+                c.store(v, Relaxed);
+                let ln = &layer[n as usize];
+                // A placed successor was released from a cycle: its layer stays.
+                let cur = ln.load(Relaxed);
+                if cur & PLACED == 0 && cur <= l {
+                    ln.store(l + 1, Relaxed);
+                }
+                if v == 0 {
+                    stack.push(n);
+                }
+            });
+        }
+        if placed == tets.len() {
+            break;
+        }
+        let released = break_cycles_with(g, tets, indeg, &mut res, &mut in_cycle, |t| {
+            layer[t as usize].load(Relaxed) & PLACED == 0
+        });
+        if released.is_empty() {
+            // Cannot happen (a stalled graph always has a source component); never loop.
+            for &t in tets {
+                if layer[t as usize].load(Relaxed) & PLACED == 0 {
+                    indeg[t as usize].store(RELEASED, Relaxed);
+                    layer[t as usize].store(layers, Relaxed);
+                    stack.push(t);
+                }
+            }
+        }
+        for &t in &released {
+            layer[t as usize].store(layers, Relaxed);
+        }
+        // Released tets first in id order (the stack pops from the end).
+        stack.extend(released.iter().rev());
+    }
+    res.layers = layers;
+    res
+}
+
 /// The remaining tets form a graph where every tet has a predecessor: find its strongly connected
 /// components (iterative Tarjan), and release one tet of every source component: the one with the
 /// fewest predecessors left (so the fewest constraints are ignored), the smallest id on ties.
@@ -153,11 +223,21 @@ fn break_cycles(
     res: &mut PeelResult,
     in_cycle: &mut HashMap<u32, ()>,
 ) -> Vec<u32> {
-    let mut rest: Vec<u32> = tets
-        .iter()
-        .copied()
-        .filter(|&t| layer[t as usize].load(Relaxed) == UNSET)
-        .collect();
+    break_cycles_with(g, tets, indeg, res, in_cycle, |t| {
+        layer[t as usize].load(Relaxed) == UNSET
+    })
+}
+
+/// [`break_cycles`] with `unplaced(t)` telling which tets are left.
+fn break_cycles_with(
+    g: &Graph,
+    tets: &[u32],
+    indeg: &[AtomicU32],
+    res: &mut PeelResult,
+    in_cycle: &mut HashMap<u32, ()>,
+    unplaced: impl Fn(u32) -> bool,
+) -> Vec<u32> {
+    let mut rest: Vec<u32> = tets.iter().copied().filter(|&t| unplaced(t)).collect();
     rest.sort_unstable();
     let local: HashMap<u32, u32> = rest
         .iter()

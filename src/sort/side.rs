@@ -18,6 +18,68 @@ pub fn eye_side(view: &Viewpoint, a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> i
     }
 }
 
+/// Faces of a tet in [`super::adjacency::face_vertices`] order: face `i` skips vertex `i`.
+const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+
+/// Exact signs of `orient3d(face i, eye)` for the four faces of one tet, each face's vertices in
+/// tet order ([`super::adjacency::face_vertices`]). The four determinants share their six 2x2
+/// minors, and each equals Shewchuk's stage-A expression bit for bit, so his static bound
+/// (7 + 56 eps) eps times the permanent decides its sign; 1e-15 (about 9 eps) is used. What the
+/// bound cannot decide (near-zero, tiny or non-finite values) goes to the exact `orient3d`.
+#[inline]
+pub fn tet_eye_sides(p: &[[f64; 3]; 4], e: &[f64; 3]) -> [i8; 4] {
+    let d: [[f64; 3]; 4] = p.map(|q| [q[0] - e[0], q[1] - e[1], q[2] - e[2]]);
+    // minor(a, b) = dx_a dy_b - dx_b dy_a and its permanent, for the pairs of FACES' columns.
+    let m = |a: usize, b: usize| d[a][0] * d[b][1] - d[b][0] * d[a][1];
+    let pm = |a: usize, b: usize| (d[a][0] * d[b][1]).abs() + (d[b][0] * d[a][1]).abs();
+    let (m01, m02, m03, m12, m13, m23) = (m(0, 1), m(0, 2), m(0, 3), m(1, 2), m(1, 3), m(2, 3));
+    let (p01, p02, p03, p12, p13, p23) =
+        (pm(0, 1), pm(0, 2), pm(0, 3), pm(1, 2), pm(1, 3), pm(2, 3));
+    let z = [d[0][2], d[1][2], d[2][2], d[3][2]];
+    let za = z.map(f64::abs);
+    // det[d_j; d_k; d_l] = z_j m(k, l) - z_k m(j, l) + z_l m(j, k), as Shewchuk sums it.
+    let det = [
+        z[1] * m23 - z[2] * m13 + z[3] * m12,
+        z[0] * m23 - z[2] * m03 + z[3] * m02,
+        z[0] * m13 - z[1] * m03 + z[3] * m01,
+        z[0] * m12 - z[1] * m02 + z[2] * m01,
+    ];
+    let perm = [
+        za[1] * p23 + za[2] * p13 + za[3] * p12,
+        za[0] * p23 + za[2] * p03 + za[3] * p02,
+        za[0] * p13 + za[1] * p03 + za[3] * p01,
+        za[0] * p12 + za[1] * p02 + za[2] * p01,
+    ];
+    let mut out = [0i8; 4];
+    for i in 0..4 {
+        let (x, bound) = (det[i], 1e-15 * perm[i]);
+        out[i] = if x.abs() > bound && bound > 1e-280 && bound.is_finite() {
+            sign(x)
+        } else {
+            let [a, b, c] = FACES[i];
+            sign(orient3d(&p[a], &p[b], &p[c], e))
+        };
+    }
+    out
+}
+
+/// Exact [`eye_side`] of each face of a tet whose bit is set in `mask` (0 for the others), each
+/// face's vertices in tet order.
+#[inline]
+pub fn tet_sides(view: &Viewpoint, p: &[[f64; 3]; 4], mask: u8) -> [i8; 4] {
+    match view {
+        Viewpoint::Eye(e) => tet_eye_sides(p, e),
+        Viewpoint::Direction(v) => std::array::from_fn(|i| {
+            let [a, b, c] = FACES[i];
+            if mask >> i & 1 == 1 {
+                normal_dot_sign(&p[a], &p[b], &p[c], v)
+            } else {
+                0
+            }
+        }),
+    }
+}
+
 #[inline]
 fn sign(x: f64) -> i8 {
     if x > 0.0 {
@@ -124,7 +186,41 @@ mod tests {
         );
     }
 
+    fn faces_exact(p: &[[f64; 3]; 4], e: &[f64; 3]) -> [i8; 4] {
+        FACES.map(|[a, b, c]| sign(orient3d(&p[a], &p[b], &p[c], e)))
+    }
+
+    #[test]
+    fn tet_sides_exact_on_coplanar_and_tiny() {
+        let p = [[0.1, 0.0, 0.0], [0.1, 1.0, 0.0], [0.1, 0.3, 0.7], [0.9, 0.2, 0.1]];
+        // The eye in the plane of face 3 (x = 0.1, not representable): exact zero there.
+        for e in [[0.1, 5.0, -3.0], [0.1, 0.2, 0.3], [0.5, 0.5, 0.5], [1e-300, 0.0, 0.0]] {
+            assert_eq!(tet_eye_sides(&p, &e), faces_exact(&p, &e));
+        }
+        let tiny = p.map(|q| q.map(|x| x * 1e-300));
+        assert_eq!(
+            tet_eye_sides(&tiny, &[0.0, 0.0, 0.0]),
+            faces_exact(&tiny, &[0.0, 0.0, 0.0])
+        );
+    }
+
     proptest! {
+        #[test]
+        fn tet_sides_agree_with_orient3d(
+            p in prop::array::uniform4(prop::array::uniform3(-10.0f64..10.0)),
+            e in prop::array::uniform3(-20.0f64..20.0),
+            t in 0.0f64..1.0,
+            u in 0.0f64..1.0,
+            k in 0usize..4,
+        ) {
+            prop_assert_eq!(tet_eye_sides(&p, &e), faces_exact(&p, &e));
+            // Nearly (or exactly) in the plane of face k: an affine combination of its vertices.
+            let [a, b, c] = FACES[k];
+            let w = [0, 1, 2].map(|j| p[a][j] + t * (p[b][j] - p[a][j]) + u * (p[c][j] - p[a][j]) * 3.0);
+            prop_assert_eq!(tet_eye_sides(&p, &w), faces_exact(&p, &w));
+            prop_assert_eq!(tet_eye_sides(&p, &p[a]), faces_exact(&p, &p[a]));
+        }
+
         #[test]
         fn filter_agrees_with_exact(
             a in prop::array::uniform3(-10.0f64..10.0),
