@@ -17,7 +17,7 @@ use serde::Serialize;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 use std::time::Instant;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Viewpoint};
 use crate::mesh::TetMesh;
 use crate::partition::KdTree;
 use adjacency::{face_vertices, Adjacency, NONE};
@@ -111,6 +111,7 @@ pub struct Sorter<'m> {
     /// Boundary faces of each non-convex leaf (`None` for convex leaves).
     leaf_boundary: Vec<Option<nonconvex::LeafBoundary>>,
     centroids: Vec<[f64; 3]>,
+    bounds: crate::geom::Aabb,
 }
 
 impl<'m> Sorter<'m> {
@@ -194,6 +195,7 @@ impl<'m> Sorter<'m> {
             same_leaf,
             leaf_boundary,
             centroids,
+            bounds: mesh.bounds(),
         })
     }
 
@@ -234,7 +236,6 @@ impl<'m> Sorter<'m> {
     }
 
     fn peel_order(&self, cam: &Camera, dir: Direction, kd: bool) -> Order {
-        let __t = Instant::now();
         let viewpoint = cam.viewpoint();
         let view = &viewpoint;
         let mesh = self.mesh;
@@ -253,6 +254,10 @@ impl<'m> Sorter<'m> {
         // same exact sign, so they always agree on who is in front. Bit i of `post`: the tet
         // across face i comes after this one; `indeg`: how many come before it.
         let flip = &self.flip;
+        let bound = match view {
+            Viewpoint::Eye(e) => side::eye_error_bound(&self.bounds, e),
+            Viewpoint::Direction(_) => 0.0,
+        };
         let (mut post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
             .into_par_iter()
             .with_min_len(4096)
@@ -261,7 +266,7 @@ impl<'m> Sorter<'m> {
                 let mask = mask_of(t);
                 if mask != 0 {
                     let p = mesh.tets[t].map(|v| mesh.points[v as usize]);
-                    let s = side::tet_sides(view, &p, mask);
+                    let s = side::tet_sides(view, &p, mask, bound);
                     let mut bits = mask;
                     while bits != 0 {
                         let i = bits.trailing_zeros() as usize;
@@ -318,11 +323,7 @@ impl<'m> Sorter<'m> {
             }
             (off, extra.iter().map(|e| e.1).collect::<Vec<u32>>())
         };
-        if std::env::var_os("PROF").is_some() { eprintln!("extra {:.4}", __t.elapsed().as_secs_f64()); }
-        let dfs = std::env::var("DFS").as_deref() == Ok("1");
-        let layer: Vec<AtomicU32> = (0..n)
-            .map(|_| AtomicU32::new(if dfs { 0 } else { peel::UNSET }))
-            .collect();
+        let layer: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(peel::UNSET)).collect();
         let g = peel::Graph {
             neighbors: nbr,
             post: &post,
@@ -331,19 +332,9 @@ impl<'m> Sorter<'m> {
         };
         let results: Vec<peel::PeelResult> = leaves
             .par_iter()
-            .map(|tets| {
-                if dfs {
-                    peel::peel_depth_first(&g, tets, &indeg, &layer)
-                } else {
-                    peel::peel(&g, tets, &indeg, &layer)
-                }
-            })
+            .map(|tets| peel::peel(&g, tets, &indeg, &layer))
             .collect();
-        if std::env::var_os("PROF").is_some() { eprintln!("peel {:.4}", __t.elapsed().as_secs_f64()); }
-        let layer: Vec<u32> = layer
-            .into_iter()
-            .map(|a| a.into_inner() & !peel::PLACED)
-            .collect();
+        let layer: Vec<u32> = layer.into_iter().map(|a| a.into_inner()).collect();
         let mut leaf_order: Vec<u32> = if kd {
             self.tree.leaf_order_front_to_back(view)
         } else {
@@ -362,7 +353,6 @@ impl<'m> Sorter<'m> {
         if !ftb {
             leaf_order.reverse();
         }
-        if std::env::var_os("PROF").is_some() { eprintln!("layerconv+leaforder {:.4}", __t.elapsed().as_secs_f64()); }
         // Within a leaf: by layer, then by tet id (deterministic), by counting sort.
         let per_leaf: Vec<Vec<u32>> = leaf_order
             .par_iter()
@@ -389,7 +379,6 @@ impl<'m> Sorter<'m> {
         for v in per_leaf {
             order.extend_from_slice(&v);
         }
-        if std::env::var_os("PROF").is_some() { eprintln!("final {:.4}", __t.elapsed().as_secs_f64()); }
         let mut stats = SortStats {
             leaves: leaves.len(),
             face_constraints,
@@ -458,4 +447,67 @@ fn assign_leaves(mesh: &TetMesh, tree: &KdTree, centroids: &[[f64; 3]]) -> Vec<u
             0
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::{jitter, structured_grid};
+    use adjacency::sorted_face;
+
+    /// Each tet's own decision (four shared minors, `flip`) is the per-face one: the exact side
+    /// of the sorted face against the side the tet lies on, and zero exactly when that is zero.
+    #[test]
+    fn per_tet_decisions_match_per_face_ones() {
+        let n = 5;
+        let plain = structured_grid([n, n, n], [0.0; 3], [1.0; 3]);
+        let mut jittered = plain.clone();
+        jitter(&mut jittered, [n, n, n], 0.2, 11);
+        for mesh in [&plain, &jittered] {
+            let views = [
+                Viewpoint::Eye([2.3, 1.7, 1.9]),
+                // A mesh vertex: the faces around it contain the eye.
+                Viewpoint::Eye(mesh.points[43]),
+                // On grid planes of the plain grid (face planes of many of its tets).
+                Viewpoint::Eye([mesh.points[43][0], mesh.points[43][1], 7.5]),
+                Viewpoint::Eye([0.43, 0.51, 0.37]),
+                Viewpoint::Eye([1e7 + 0.1, -3e6, 0.2]),
+                Viewpoint::Direction([1.0, 0.0, 0.0]),
+                Viewpoint::Direction([0.3, -0.7, 0.2]),
+            ];
+            let s = Sorter::new(mesh, None).unwrap();
+            let bound = |v: &Viewpoint| match v {
+                Viewpoint::Eye(e) => side::eye_error_bound(&s.bounds, e),
+                Viewpoint::Direction(_) => 0.0,
+            };
+            let mut zeros = 0;
+            for v in &views {
+                for (t, tet) in mesh.tets.iter().enumerate() {
+                    let p = tet.map(|i| mesh.points[i as usize]);
+                    let sides = side::tet_sides(v, &p, 15, bound(v));
+                    for (i, &si) in sides.iter().enumerate() {
+                        if s.adj.neighbors[t][i] == NONE {
+                            continue;
+                        }
+                        let f = sorted_face(tet, i);
+                        let want = side::eye_side(
+                            v,
+                            &mesh.points[f[0] as usize],
+                            &mesh.points[f[1] as usize],
+                            &mesh.points[f[2] as usize],
+                        );
+                        assert_eq!(si == 0, want == 0, "tet {t} face {i} {v:?}");
+                        if want == 0 {
+                            zeros += 1;
+                            continue;
+                        }
+                        let old = (want > 0) == (s.adj.positive_side[t] >> i & 1 == 1);
+                        let new = (si > 0) == (s.flip[t] >> i & 1 == 1);
+                        assert_eq!(old, new, "tet {t} face {i} {v:?}");
+                    }
+                }
+            }
+            assert!(zeros > 0, "an eye at a vertex sees faces edge-on");
+        }
+    }
 }
