@@ -105,7 +105,7 @@ fn exp_neg_small(x: f64) -> f64 {
 /// `exp(-x)` for an optical depth `x >= 0`.
 #[inline(always)]
 fn exp_neg(x: f64) -> f64 {
-    if x <= 0.5 && x >= 0.0 {
+    if (0.0..=0.5).contains(&x) {
         exp_neg_small(x)
     } else {
         (-x).exp()
