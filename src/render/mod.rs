@@ -13,6 +13,7 @@ pub mod prepare;
 pub mod pt;
 pub mod raycast;
 pub mod transfer;
+pub mod walk;
 
 pub use image::Image;
 pub use integrate::Integration;

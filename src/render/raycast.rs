@@ -9,9 +9,10 @@
 use super::field::Field;
 use super::image::Image;
 use super::integrate::exact_segment;
-use super::pt::FACES;
 use super::transfer::TransferFunction;
+use super::walk::{self, TetPlanes};
 use crate::camera::Camera;
+use crate::geom::{dot, sub, Aabb};
 use crate::locate::{BoundaryIndex, GridParams, TetLocator, Topology, NONE};
 use rayon::prelude::*;
 
@@ -23,6 +24,9 @@ pub struct RayCaster<'a> {
     pub topo: &'a Topology,
     pub entry: BoundaryIndex,
     pub locator: TetLocator,
+    /// Per-tet barycentric planes and scalars, relative to `reference`.
+    planes: Vec<TetPlanes>,
+    reference: [f64; 3],
 }
 
 /// Counts of one frame.
@@ -43,9 +47,15 @@ impl<'a> RayCaster<'a> {
         topo: &'a Topology,
         params: GridParams,
     ) -> RayCaster<'a> {
-        let (entry, locator) = rayon::join(
-            || BoundaryIndex::build(points, tets, topo, params),
-            || TetLocator::build(points, tets, params),
+        let reference = Aabb::of_points(points.iter()).center();
+        let ((entry, locator), planes) = rayon::join(
+            || {
+                rayon::join(
+                    || BoundaryIndex::build(points, tets, topo, params),
+                    || TetLocator::build(points, tets, params),
+                )
+            },
+            || walk::build(points, tets, field, &reference),
         );
         RayCaster {
             points,
@@ -54,69 +64,9 @@ impl<'a> RayCaster<'a> {
             topo,
             entry,
             locator,
+            planes,
+            reference,
         }
-    }
-
-    /// Leaves `tet` (entered through `entry` at `tin`): exit parameter, exit face, and the
-    /// scalar at `tin` and at the exit. The scalar comes from the same four face planes that
-    /// find the exit (barycentric coordinates along the ray are linear in `t`), clamped to the
-    /// tet's values.
-    fn exit(
-        &self,
-        tet: u32,
-        entry: Option<u8>,
-        o: &[f64; 3],
-        d: &[f64; 3],
-        tin: f64,
-    ) -> Option<(f64, u8, f64, f64)> {
-        let t = &self.tets[tet as usize];
-        let v = t.map(|i| self.points[i as usize]);
-        let s = self.field.at(tet as usize, t);
-        let mut best: Option<(f64, u8)> = None;
-        // Barycentric coordinate of face f's opposite vertex along the ray: (c0 + t c1) / h.
-        // (A flat tet gives 1/h infinite; `at` then falls back to the mean.)
-        let mut lam = [[0.0f64; 3]; 4];
-        for (f, fv) in FACES.iter().enumerate() {
-            let a = v[fv[0]];
-            let e1 = sub(&v[fv[1]], &a);
-            let e2 = sub(&v[fv[2]], &a);
-            let mut n = cross(&e1, &e2);
-            let mut h = dot(&n, &sub(&v[f], &a));
-            if h > 0.0 {
-                n = [-n[0], -n[1], -n[2]];
-                h = -h;
-            }
-            let dn = dot(&n, d);
-            let oa = dot(&n, &sub(o, &a));
-            lam[f] = [oa, dn, 1.0 / h];
-            if entry == Some(f as u8) || !(dn > 0.0) {
-                continue;
-            }
-            let tf = -oa / dn;
-            if tf.is_finite() && best.is_none_or(|b| tf < b.0) {
-                best = Some((tf, f as u8));
-            }
-        }
-        let (tout, face) = best?;
-        let tout = tout.max(tin);
-        let lo = s.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let at = |tt: f64| {
-            let (mut val, mut sum) = (0.0, 0.0);
-            for f in 0..4 {
-                let [c0, c1, inv_h] = lam[f];
-                let l = (c0 + tt * c1) * inv_h;
-                val += s[f] * l;
-                sum += l;
-            }
-            // A flat tet has no barycentric coordinates: its mean value.
-            if sum.is_finite() && sum != 0.0 && val.is_finite() {
-                (val / sum).clamp(lo, hi)
-            } else {
-                0.25 * (s[0] + s[1] + s[2] + s[3])
-            }
-        };
-        Some((tout, face, at(tin), at(tout)))
     }
 
     /// Premultiplied RGBA of one ray from `o` along unit `d`, starting at `t = 0`.
@@ -155,6 +105,7 @@ impl<'a> RayCaster<'a> {
         // Faces already used at parameter `after` (so a zero-length walk cannot loop).
         let mut used: Vec<(u32, u8)> = Vec::new();
         let budget = 4 * self.tets.len() + 16;
+        let orel = sub(o, &self.reference);
         let mut steps = 0usize;
         'rays: loop {
             let (mut tet, mut face, mut tin) = match cur.take() {
@@ -182,7 +133,9 @@ impl<'a> RayCaster<'a> {
                 if steps > budget {
                     break 'rays;
                 }
-                let Some((tout, ef, sin, sout)) = self.exit(tet, face, o, d, tin) else {
+                let Some((tout, ef, sin, sout)) =
+                    self.planes[tet as usize].exit(face, &orel, d, tin)
+                else {
                     stats.lost += 1;
                     break;
                 };
@@ -299,25 +252,13 @@ impl<'a> RayCaster<'a> {
     }
 }
 
-fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::cross;
     use crate::locate::barycentric;
     use crate::mesh::generate::{jitter, structured_grid};
+    use crate::render::pt::FACES;
     use crate::render::transfer::{named_colormap, OpacitySpec};
 
     fn tf(range: [f64; 2]) -> TransferFunction {
