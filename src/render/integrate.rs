@@ -40,11 +40,7 @@ impl Integration {
 }
 
 /// Gauss-Legendre nodes and weights on [0, 1], 3 points.
-const GL3_X: [f64; 3] = [
-    0.112_701_665_379_258_31,
-    0.5,
-    0.887_298_334_620_741_7,
-];
+const GL3_X: [f64; 3] = [0.112_701_665_379_258_31, 0.5, 0.887_298_334_620_741_7];
 const GL3_W: [f64; 3] = [5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0];
 
 /// Gauss-Legendre nodes and weights on [0, 1], 4 points.
