@@ -3,14 +3,18 @@
 //! a tangent point) does not count, so a body whose surface passes exactly through mesh faces and
 //! vertices marks only the tets on its inside.
 //!
-//! Boxes, triangle surfaces and spheres are decided exactly (separating planes with exact signs;
-//! a sphere's distance to the tet filtered in floats, exact dyadic arithmetic near tangency, and a
-//! tet at distance exactly `r` only touches); cylinders and cones in floating point (closest
-//! distances), where only rounding can mistake a tangency for an overlap.
+//! Every shape is decided exactly with that one meaning of exact zero: boxes and triangle
+//! surfaces by separating planes with exact signs; a sphere by its distance to the tet, filtered
+//! in floats with exact dyadic arithmetic near tangency (distance exactly `r` only touches);
+//! cylinders and cone frusta by [`super::frustum`] (outward-rounded intervals, exact dyadic
+//! arithmetic where an interval straddles zero; a tet at exactly the radius from the axis, or
+//! exactly on a cap plane, only touches). The only culling before them is the bodies' boxes,
+//! which are rounded outwards.
 
 use rayon::prelude::*;
 
 use super::exact::{ball_meets_tet, det3_sign, orient, orient2, parallel};
+use super::frustum::tet_meets_frustum;
 use super::{Primitive, Scene, Shape, TriSurface};
 use crate::geom::{dot, sub, Aabb};
 use crate::mesh::TetMesh;
@@ -236,131 +240,15 @@ fn tet_sphere(p: &[[f64; 3]; 4], c: &[f64; 3], r: f64) -> bool {
     ball_meets_tet(p, c, r)
 }
 
-/// Distance from the origin to the convex hull of 2D points, compared with `r`: true when the
-/// hull reaches inside the open disc of radius `r`.
-fn hull_within(pts: &mut [[f64; 2]], r: f64) -> bool {
-    if pts.is_empty() {
-        return false;
-    }
-    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    let cross = |o: &[f64; 2], a: &[f64; 2], b: &[f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
-    let mut hull: Vec<[f64; 2]> = Vec::new();
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for q in iter {
-            while hull.len() >= start + 2
-                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], q) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(*q);
-        }
-        hull.pop();
-    }
-    if hull.is_empty() {
-        hull.push(pts[0]);
-    }
-    let o = [0.0, 0.0];
-    if hull.len() >= 3
-        && (0..hull.len()).all(|i| cross(&hull[i], &hull[(i + 1) % hull.len()], &o) >= 0.0)
-    {
-        return true;
-    }
-    let seg = |a: &[f64; 2], b: &[f64; 2]| {
-        let ab = [b[0] - a[0], b[1] - a[1]];
-        let l2 = ab[0] * ab[0] + ab[1] * ab[1];
-        let t = if l2 > 0.0 {
-            (-(a[0] * ab[0] + a[1] * ab[1]) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let q = [a[0] + t * ab[0], a[1] + t * ab[1]];
-        q[0] * q[0] + q[1] * q[1]
-    };
-    let n = hull.len();
-    (0..n).any(|i| seg(&hull[i], &hull[(i + 1) % n]) < r * r)
-}
-
 fn tet_frustum(p: &[[f64; 3]; 4], start: &[f64; 3], end: &[f64; 3], r0: f64, r1: f64) -> bool {
     if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
         return false;
     }
-    let axis = sub(end, start);
-    let len2 = dot(&axis, &axis);
-    let s: Vec<f64> = p
-        .iter()
-        .map(|x| dot(&sub(x, start), &axis) / len2)
-        .collect();
-    // The open slab 0 < s < 1; a cone's apex end is pulled in a hair so the central projection
-    // stays finite (what is lost is a needle of zero radius).
-    let (lo, hi) = (
-        if r0 == 0.0 { 1e-9 } else { 0.0 },
-        if r1 == 0.0 { 1.0 - 1e-9 } else { 1.0 },
-    );
-    if s.iter().all(|&v| v <= lo) || s.iter().all(|&v| v >= hi) {
-        return false;
-    }
-    let mut clipped: Vec<([f64; 3], f64)> = Vec::with_capacity(16);
-    for i in 0..4 {
-        if s[i] >= lo && s[i] <= hi {
-            clipped.push((p[i], s[i]));
-        }
-    }
-    for e in TET_EDGES {
-        let (a, b) = (e[0], e[1]);
-        for level in [lo, hi] {
-            if (s[a] - level) * (s[b] - level) < 0.0 {
-                let t = (level - s[a]) / (s[b] - s[a]);
-                clipped.push(([0, 1, 2].map(|k| p[a][k] + t * (p[b][k] - p[a][k])), level));
-            }
-        }
-    }
-    // A basis of the plane perpendicular to the axis.
-    let n = axis.map(|x| x / len2.sqrt());
-    let helper = if n[0].abs() < 0.6 {
-        [1.0, 0.0, 0.0]
-    } else {
-        [0.0, 1.0, 0.0]
-    };
-    let e1 = {
-        let c = crate::geom::cross(&n, &helper);
-        let l = dot(&c, &c).sqrt();
-        c.map(|x| x / l)
-    };
-    let e2 = crate::geom::cross(&n, &e1);
-    let cone = r0 != r1;
-    let (sa, k) = if cone {
-        (r0 / (r0 - r1), (r0 - r1).abs())
-    } else {
-        (0.0, r0)
-    };
-    let sign = if r0 > r1 { 1.0 } else { -1.0 };
-    let mut pts: Vec<[f64; 2]> = clipped
-        .iter()
-        .map(|(x, sv)| {
-            let rel = sub(x, start);
-            let y = [dot(&rel, &e1), dot(&rel, &e2)];
-            if cone {
-                // Central projection from the apex: w is the axial distance from it (in units of
-                // the axis length), positive throughout the slab.
-                let w = (sa - sv) * sign;
-                [y[0] / w, y[1] / w]
-            } else {
-                y
-            }
-        })
-        .collect();
-    // In axis-length units the cone's radius at distance w from the apex is k w.
-    hull_within(&mut pts, k)
+    tet_meets_frustum(p, start, end, r0, r1)
 }
 
+/// Distance from the origin to the convex hull of 2D points, compared with `r`: true when the
+/// hull reaches inside the open disc of radius `r`.
 fn tet_surface(p: &[[f64; 3]; 4], tb: &Aabb, s: &TriSurface) -> bool {
     if orient(&p[0], &p[1], &p[2], &p[3]) == 0 {
         return false;

@@ -6,7 +6,7 @@ use num_traits::{Signed, Zero};
 
 /// A dyadic rational `m * 2^e`: every finite f64 is one, and sums and products stay exact.
 #[derive(Clone, Debug)]
-struct Dyadic {
+pub struct Dyadic {
     m: BigInt,
     e: i32,
 }
@@ -64,6 +64,47 @@ impl Dyadic {
         } else {
             -1
         }
+    }
+}
+
+/// The ring operations the generic predicates need, with a sign that may be unknown: exact
+/// ([`Dyadic`], always known) or a filter ([`super::interval::Interval`], unknown when its
+/// rounding bound straddles zero).
+pub trait Arith: Clone {
+    fn of(x: f64) -> Self;
+    /// `x - y`.
+    fn diff(x: f64, y: f64) -> Self;
+    fn add(&self, o: &Self) -> Self;
+    fn sub(&self, o: &Self) -> Self;
+    fn mul(&self, o: &Self) -> Self;
+    fn neg(&self) -> Self;
+    fn sign(&self) -> Option<i32>;
+}
+
+impl Arith for Dyadic {
+    fn of(x: f64) -> Dyadic {
+        Dyadic::from_f64(x)
+    }
+    fn diff(x: f64, y: f64) -> Dyadic {
+        Dyadic::from_f64(x).sub(&Dyadic::from_f64(y))
+    }
+    fn add(&self, o: &Dyadic) -> Dyadic {
+        Dyadic::add(self, o)
+    }
+    fn sub(&self, o: &Dyadic) -> Dyadic {
+        Dyadic::sub(self, o)
+    }
+    fn mul(&self, o: &Dyadic) -> Dyadic {
+        Dyadic::mul(self, o)
+    }
+    fn neg(&self) -> Dyadic {
+        Dyadic {
+            m: -&self.m,
+            e: self.e,
+        }
+    }
+    fn sign(&self) -> Option<i32> {
+        Some(Dyadic::sign(self))
     }
 }
 

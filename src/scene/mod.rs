@@ -8,6 +8,8 @@
 pub mod classify;
 mod exact;
 mod file;
+pub mod frustum;
+mod interval;
 pub mod merge;
 pub mod ray;
 pub mod shapes;

@@ -97,6 +97,8 @@ impl Primitive {
     /// A box containing the body (exact for boxes and spheres up to rounding, which is rounded
     /// outwards).
     pub fn bounds(&self) -> Aabb {
+        // The corners are each one rounded sum away from the exact ones; 4 eps of the largest
+        // magnitude covers that, and the smallest normal number any underflow.
         let grow = |b: Aabb| {
             let pad = b
                 .min
@@ -104,7 +106,8 @@ impl Primitive {
                 .chain(b.max.iter())
                 .fold(0.0f64, |m, x| m.max(x.abs()))
                 * 4.0
-                * f64::EPSILON;
+                * f64::EPSILON
+                + f64::MIN_POSITIVE;
             Aabb {
                 min: b.min.map(|x| x - pad),
                 max: b.max.map(|x| x + pad),
@@ -121,13 +124,19 @@ impl Primitive {
             }),
             Primitive::Frustum { start, end, r0, r1 } => {
                 let axis = sub(end, start);
-                let len2 = dot(&axis, &axis);
+                let len = dot(&axis, &axis).sqrt();
                 let mut b = Aabb::EMPTY;
                 for (c, r) in [(start, r0), (end, r1)] {
-                    for k in 0..3 {
-                        let ext = r * (1.0 - axis[k] * axis[k] / len2).max(0.0).sqrt();
-                        b.min[k] = b.min[k].min(c[k] - ext);
-                        b.max[k] = b.max[k].max(c[k] + ext);
+                    for (k, &ck) in c.iter().enumerate() {
+                        // A rim reaches r sqrt(1 - a_k^2 / L^2) = r |a with a_k dropped| / L
+                        // along axis k; written without the cancellation in 1 - a_k^2 / L^2
+                        // (which near an axis-aligned body could lose half the digits), each
+                        // step is off by at most an ulp, and 1 + 2^-40 covers them all.
+                        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                        let across = (axis[i] * axis[i] + axis[j] * axis[j]).sqrt();
+                        let ext = r * (across / len).min(1.0) * (1.0 + 1.0 / (1u64 << 40) as f64);
+                        b.min[k] = b.min[k].min(ck - ext);
+                        b.max[k] = b.max[k].max(ck + ext);
                     }
                 }
                 grow(b)
