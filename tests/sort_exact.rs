@@ -322,3 +322,36 @@ mod random_views {
         }
     }
 }
+
+/// Identical order, layers and counts under 1 and 2 threads (leaves and frontiers in parallel),
+/// for one leaf and for four, convex and not.
+#[test]
+fn order_is_identical_under_any_thread_count() {
+    let n = 14;
+    let mut grid = structured_grid([n, n, n], [0.0; 3], [1.0; 3]);
+    jitter(&mut grid, [n, n, n], 0.2, 5);
+    let meshes = [
+        (grid, None),
+        (holed(), Some(grid_tree(true))),
+        (tunnels(), None),
+    ];
+    let pool = |k| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(k)
+            .build()
+            .unwrap()
+    };
+    let (one, two) = (pool(1), pool(2));
+    for (m, tree) in &meshes {
+        let s = Sorter::new(m, tree.as_ref()).unwrap();
+        for c in cameras() {
+            for method in [Method::Kd, Method::Mpvo] {
+                let run = |p: &rayon::ThreadPool| {
+                    let o = p.install(|| s.order(&c, method, Direction::FrontToBack));
+                    (o.order, o.layer, o.stats.layers, o.stats.face_constraints)
+                };
+                assert_eq!(run(&one), run(&two), "{method:?} {c:?}");
+            }
+        }
+    }
+}

@@ -46,9 +46,6 @@ pub struct Adjacency {
     /// shared face: the two tets always get opposite bits, even for flat or inverted tets, so the
     /// per-view "who is in front" is one decision per face.
     pub positive_side: Vec<u8>,
-    /// Two bits per face: the index `j` of this face in the neighbour's list
-    /// (`neighbors[neighbors[t][i]][j] == t`), so a face's per-view answer is computed once.
-    pub mirror: Vec<u8>,
     /// Faces shared by more than two tets (a non-manifold input); such faces get no neighbour.
     pub nonmanifold_faces: usize,
     /// Tets with zero volume (all four points coplanar).
@@ -135,26 +132,9 @@ impl Adjacency {
                 }
             }
         }
-        let mirror: Vec<u8> = (0..n)
-            .into_par_iter()
-            .map(|t| {
-                let mut m = 0u8;
-                for i in 0..4 {
-                    let o = neighbors[t][i];
-                    if o != NONE {
-                        let j = (0..4)
-                            .find(|&j| neighbors[o as usize][j] == t as u32)
-                            .unwrap_or(0);
-                        m |= (j as u8) << (2 * i);
-                    }
-                }
-                m
-            })
-            .collect();
         Adjacency {
             neighbors,
             positive_side,
-            mirror,
             nonmanifold_faces: nonmanifold,
             flat_tets,
         }

@@ -17,10 +17,10 @@ use serde::Serialize;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 use std::time::Instant;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Viewpoint};
 use crate::mesh::TetMesh;
 use crate::partition::KdTree;
-use adjacency::{sorted_face, Adjacency, NONE};
+use adjacency::{face_vertices, Adjacency, NONE};
 
 /// How to order the tets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, clap::ValueEnum)]
@@ -102,11 +102,16 @@ pub struct Sorter<'m> {
     same_leaf: Vec<u8>,
     /// Bit `i`: the neighbour across face `i` exists.
     any_neighbor: Vec<u8>,
+    /// Bit `i`: a tet is in front across face `i` when the sign of `orient3d(face i in tet order,
+    /// eye)` is positive (set) or negative (clear): the parity of sorting the face's vertex ids
+    /// XOR [`Adjacency::positive_side`], so both tets of a face read one consistent decision.
+    flip: Vec<u8>,
     /// `0..n`, the single leaf of `mpvo`.
     all_tets: Vec<u32>,
     /// Boundary faces of each non-convex leaf (`None` for convex leaves).
     leaf_boundary: Vec<Option<nonconvex::LeafBoundary>>,
     centroids: Vec<[f64; 3]>,
+    bounds: crate::geom::Aabb,
 }
 
 impl<'m> Sorter<'m> {
@@ -168,8 +173,19 @@ impl<'m> Sorter<'m> {
             .par_iter()
             .map(|nb| (0..4).fold(0u8, |m, i| m | (((nb[i] != NONE) as u8) << i)))
             .collect();
+        let flip: Vec<u8> = (0..n)
+            .into_par_iter()
+            .map(|t| {
+                (0..4).fold(0u8, |bits, i| {
+                    let f = face_vertices(&mesh.tets[t], i);
+                    let odd = ((f[0] > f[1]) as u8 ^ (f[0] > f[2]) as u8 ^ (f[1] > f[2]) as u8) & 1;
+                    bits | ((odd ^ (adj.positive_side[t] >> i & 1)) << i)
+                })
+            })
+            .collect();
         Ok(Sorter {
             mesh,
+            flip,
             any_neighbor,
             all_tets: (0..n as u32).collect(),
             adj,
@@ -179,6 +195,7 @@ impl<'m> Sorter<'m> {
             same_leaf,
             leaf_boundary,
             centroids,
+            bounds: mesh.bounds(),
         })
     }
 
@@ -225,7 +242,6 @@ impl<'m> Sorter<'m> {
         let n = mesh.tets.len();
         let ftb = dir == Direction::FrontToBack;
         let nbr = &self.adj.neighbors;
-        let side = &self.adj.positive_side;
         let mask_of = |t: usize| -> u8 {
             if kd {
                 self.same_leaf[t]
@@ -233,67 +249,42 @@ impl<'m> Sorter<'m> {
                 self.any_neighbor[t]
             }
         };
-        // Pass 1: each shared face evaluated once, by its lower tet. Bit i: this tet is in front
-        // across face i (the eye is on its side); bit 4 + i: behind; neither: seen edge-on.
-        let front: Vec<u8> = (0..n)
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|t| {
-                let tet = &mesh.tets[t];
-                let mut out = 0u8;
-                let mut bits = mask_of(t);
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    if (nbr[t][i] as usize) < t {
-                        continue;
-                    }
-                    let f = sorted_face(tet, i);
-                    let s = side::eye_side(
-                        view,
-                        &mesh.points[f[0] as usize],
-                        &mesh.points[f[1] as usize],
-                        &mesh.points[f[2] as usize],
-                    );
-                    if s != 0 {
-                        let in_front = (s > 0) == (side[t] >> i & 1 == 1);
-                        out |= if in_front { 1 << i } else { 16 << i };
-                    }
-                }
-                out
-            })
-            .collect();
-        // Pass 2: per tet, which faces lead to a successor (post) and how many predecessors.
-        let mirror = &self.adj.mirror;
+        // One pass over tets: each tet judges all its faces itself (the four share their minors),
+        // so no per-face array has to be read back across neighbours. Both tets of a face get the
+        // same exact sign, so they always agree on who is in front. Bit i of `post`: the tet
+        // across face i comes after this one; `indeg`: how many come before it.
+        let flip = &self.flip;
+        let bound = match view {
+            Viewpoint::Eye(e) => side::eye_error_bound(&self.bounds, e),
+            Viewpoint::Direction(_) => 0.0,
+        };
         let (mut post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
             .into_par_iter()
             .with_min_len(4096)
             .map(|t| {
                 let (mut post, mut pre) = (0u8, 0u32);
-                let mut bits = mask_of(t);
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let m = nbr[t][i] as usize;
-                    let (ahead, behind) = if m > t {
-                        (front[t] >> i & 1, front[t] >> (4 + i) & 1)
-                    } else {
-                        let j = (mirror[t] >> (2 * i) & 3) as usize;
-                        (front[m] >> (4 + j) & 1, front[m] >> j & 1)
-                    };
-                    if ahead | behind == 0 {
-                        continue;
-                    }
-                    if (ahead == 1) == ftb {
-                        post |= 1 << i;
-                    } else {
-                        pre += 1;
+                let mask = mask_of(t);
+                if mask != 0 {
+                    let p = mesh.tets[t].map(|v| mesh.points[v as usize]);
+                    let s = side::tet_sides(view, &p, mask, bound);
+                    let mut bits = mask;
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        if s[i] == 0 {
+                            continue; // seen edge-on: no constraint
+                        }
+                        let in_front = (s[i] > 0) == (flip[t] >> i & 1 == 1);
+                        if in_front == ftb {
+                            post |= 1 << i;
+                        } else {
+                            pre += 1;
+                        }
                     }
                 }
                 (post, AtomicU32::new(pre))
             })
             .unzip();
-        drop(front);
         let face_constraints = post.par_iter().map(|b| b.count_ones() as usize).sum();
         let leaves: &[Vec<u32>] = if kd {
             &self.leaf_tets
@@ -456,4 +447,67 @@ fn assign_leaves(mesh: &TetMesh, tree: &KdTree, centroids: &[[f64; 3]]) -> Vec<u
             0
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::{jitter, structured_grid};
+    use adjacency::sorted_face;
+
+    /// Each tet's own decision (four shared minors, `flip`) is the per-face one: the exact side
+    /// of the sorted face against the side the tet lies on, and zero exactly when that is zero.
+    #[test]
+    fn per_tet_decisions_match_per_face_ones() {
+        let n = 5;
+        let plain = structured_grid([n, n, n], [0.0; 3], [1.0; 3]);
+        let mut jittered = plain.clone();
+        jitter(&mut jittered, [n, n, n], 0.2, 11);
+        for mesh in [&plain, &jittered] {
+            let views = [
+                Viewpoint::Eye([2.3, 1.7, 1.9]),
+                // A mesh vertex: the faces around it contain the eye.
+                Viewpoint::Eye(mesh.points[43]),
+                // On grid planes of the plain grid (face planes of many of its tets).
+                Viewpoint::Eye([mesh.points[43][0], mesh.points[43][1], 7.5]),
+                Viewpoint::Eye([0.43, 0.51, 0.37]),
+                Viewpoint::Eye([1e7 + 0.1, -3e6, 0.2]),
+                Viewpoint::Direction([1.0, 0.0, 0.0]),
+                Viewpoint::Direction([0.3, -0.7, 0.2]),
+            ];
+            let s = Sorter::new(mesh, None).unwrap();
+            let bound = |v: &Viewpoint| match v {
+                Viewpoint::Eye(e) => side::eye_error_bound(&s.bounds, e),
+                Viewpoint::Direction(_) => 0.0,
+            };
+            let mut zeros = 0;
+            for v in &views {
+                for (t, tet) in mesh.tets.iter().enumerate() {
+                    let p = tet.map(|i| mesh.points[i as usize]);
+                    let sides = side::tet_sides(v, &p, 15, bound(v));
+                    for (i, &si) in sides.iter().enumerate() {
+                        if s.adj.neighbors[t][i] == NONE {
+                            continue;
+                        }
+                        let f = sorted_face(tet, i);
+                        let want = side::eye_side(
+                            v,
+                            &mesh.points[f[0] as usize],
+                            &mesh.points[f[1] as usize],
+                            &mesh.points[f[2] as usize],
+                        );
+                        assert_eq!(si == 0, want == 0, "tet {t} face {i} {v:?}");
+                        if want == 0 {
+                            zeros += 1;
+                            continue;
+                        }
+                        let old = (want > 0) == (s.adj.positive_side[t] >> i & 1 == 1);
+                        let new = (si > 0) == (s.flip[t] >> i & 1 == 1);
+                        assert_eq!(old, new, "tet {t} face {i} {v:?}");
+                    }
+                }
+            }
+            assert!(zeros > 0, "an eye at a vertex sees faces edge-on");
+        }
+    }
 }
