@@ -201,7 +201,7 @@ impl<'a> RayCaster<'a> {
         (o, d)
     }
 
-    /// Renders the camera's view (rows in parallel; each pixel is independent, so the image does
+    /// Renders the camera's view (tiles in parallel; each pixel is independent, so the image does
     /// not depend on the thread count).
     pub fn render(
         &self,
@@ -222,28 +222,39 @@ impl<'a> RayCaster<'a> {
         width: u32,
         height: u32,
     ) -> (Image, RayStats) {
-        let w = width as usize;
-        let rows: Vec<(Vec<[f32; 4]>, RayStats)> = (0..height as usize)
+        let (w, h) = (width as usize, height as usize);
+        // Square tiles, not rows: the rays of a tile walk nearly the same tets, and a tile's
+        // tets stay in the core's cache where a row's whole slab of the mesh would not.
+        const TILE: usize = 16;
+        let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
+        let tiles: Vec<(Vec<[f32; 4]>, RayStats)> = (0..tx * ty)
             .into_par_iter()
-            .map(|y| {
+            .map(|i| {
+                let (x0, y0) = ((i % tx) * TILE, (i / tx) * TILE);
                 let mut st = RayStats::default();
-                let row = (0..w)
-                    .map(|x| {
+                let mut px = Vec::with_capacity(TILE * TILE);
+                for y in y0..(y0 + TILE).min(h) {
+                    for x in x0..(x0 + TILE).min(w) {
                         let (o, d) =
                             self.pixel_ray(cam, x as f64 + 0.5, y as f64 + 0.5, width, height);
-                        self.trace_with(&o, &d, &mut st, |tin, tout, a, b| {
+                        let c = self.trace_with(&o, &d, &mut st, |tin, tout, a, b| {
                             segment(a, b, tout - tin)
-                        })
-                        .map(|v| v as f32)
-                    })
-                    .collect();
-                (row, st)
+                        });
+                        px.push(c.map(|v| v as f32));
+                    }
+                }
+                (px, st)
             })
             .collect();
         let mut img = Image::new(width, height);
         let mut stats = RayStats::default();
-        for (y, (row, st)) in rows.into_iter().enumerate() {
-            img.pixels[y * w..(y + 1) * w].copy_from_slice(&row);
+        for (i, (px, st)) in tiles.into_iter().enumerate() {
+            let (x0, y0) = ((i % tx) * TILE, (i / tx) * TILE);
+            let tw = (x0 + TILE).min(w) - x0;
+            for (r, row) in px.chunks(tw).enumerate() {
+                let at = (y0 + r) * w + x0;
+                img.pixels[at..at + tw].copy_from_slice(row);
+            }
             stats.segments += st.segments;
             stats.reentries += st.reentries;
             stats.lost += st.lost;
