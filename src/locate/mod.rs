@@ -220,6 +220,7 @@ impl BoundaryIndex {
 }
 
 /// Where the ray crosses face `face` of `tet` going into the tet, if it does.
+#[inline]
 pub fn entry_hit(
     points: &[[f64; 3]],
     tet: &[u32; 4],
