@@ -141,10 +141,9 @@ fn exp_neg(x: f64) -> f64 {
 }
 
 /// `int_0^1 exp(-(p u + q u^2)) du` for `p >= 0`, `p + 2q >= 0` (optical depth increasing in u),
-/// given `trans = exp(-(p + q))`. Constant extinction (`q = 0`) in closed form; a Taylor series
-/// while the depth's slope is <= 1/16 and `|q| <= 1/256` (one exponential); otherwise
-/// Gauss-Legendre: 4 points while the slope is <= 0.5 and `|q| <= 1/16` (with
-/// [`exp_neg_small`]), else composite
+/// given `trans = exp(-(p + q))`, for pieces beyond [`piece_integrals`]' series. Constant
+/// extinction (`q = 0`) in closed form; otherwise Gauss-Legendre: 4 points while the slope is
+/// <= 0.5 and `|q| <= 1/16` (with [`exp_neg_small`]), else composite
 /// 8-point on intervals of optical depth <= 4, stopping where the depth passes 40 (the rest is
 /// below 4e-18). The quadrature error grows with the curvature `q` as much as with the depth, hence
 /// both limits; measured over each tier's corners (mpmath), the relative error is below 2e-10.
@@ -172,33 +171,6 @@ fn depth_integral(p: f64, q: f64, trans: f64) -> f64 {
     let total = slope * umax;
     let mut sum = 0.0;
     let curv = q.abs() * umax * umax;
-    if total <= 1.0 / 16.0 && curv <= 1.0 / 256.0 {
-        // Taylor series about the middle: phi(1/2 + v) = pm + s v + q v^2, so the integral is
-        // exp(-pm) int_{-1/2}^{1/2} exp(-(s v + q v^2)) dv; odd powers of v drop out. Terms up
-        // to s^6 and q^3; the first left out are below 1e-14 relative here (s <= 1/16,
-        // |q| <= 1/256).
-        let pm = 0.5 * p + 0.25 * q;
-        let s = p + q;
-        let (s2, q2) = (s * s, q * q);
-        // Coefficients as constant reciprocals (multiplications, not divisions).
-        const K: [f64; 9] = [
-            1.0 / 12.0,
-            1.0 / 24.0,
-            1.0 / 160.0,
-            1.0 / 160.0,
-            1.0 / 2688.0,
-            1.0 / 1920.0,
-            1.0 / 1792.0,
-            1.0 / 10752.0,
-            1.0 / 322_560.0,
-        ];
-        let series = 1.0 - q * K[0] + s2 * K[1] + q2 * K[2] - s2 * q * K[3] - q2 * q * K[4]
-            + s2 * s2 * K[5]
-            + s2 * q2 * K[6]
-            - s2 * s2 * q * K[7]
-            + s2 * s2 * s2 * K[8];
-        return exp_neg_tiny(pm) * series;
-    }
     if total <= 0.5 && curv <= 1.0 / 16.0 {
         // Every depth here is in [0, total].
         for (x, w) in GL_X.iter().zip(GL_W) {
@@ -219,20 +191,64 @@ fn depth_integral(p: f64, q: f64, trans: f64) -> f64 {
     sum * h
 }
 
+/// Transmittance `exp(-(p + q))` and, when `need_i`, `int_0^1 exp(-(p u + q u^2)) du` of a
+/// piece of optical depth `p u + q u^2`. While the depth's slope is <= 1/16 and `|q| <= 1/256`
+/// (almost every piece) both come from one exponential: a Taylor series about the middle,
+/// `phi(1/2 + v) = pm + s v + q v^2`, gives the integral as
+/// `exp(-pm) int_{-1/2}^{1/2} exp(-(s v + q v^2)) dv` (odd powers of v drop out; terms up to s^6
+/// and q^3, the first left out below 1e-14 relative), and the transmittance is
+/// `exp(-pm)^2 exp(-q/2)`. Other pieces go to [`depth_integral`].
+#[inline(always)]
+fn piece_integrals(p: f64, q: f64, need_i: bool) -> (f64, f64) {
+    let slope = p.max(p + 2.0 * q);
+    if slope <= 1.0 / 16.0 && q.abs() <= 1.0 / 256.0 {
+        let pm = 0.5 * p + 0.25 * q;
+        let e = exp_neg_tiny(pm);
+        // exp(-q/2) for |q/2| <= 1/512: the degree-4 Taylor polynomial (error below 1e-17).
+        let h = 0.5 * q;
+        let eh = 1.0 - h * (1.0 - h * (0.5 - h * (1.0 / 6.0 - h * (1.0 / 24.0))));
+        let trans = e * e * eh;
+        if !need_i {
+            return (trans, 0.0);
+        }
+        let s = p + q;
+        let (s2, q2) = (s * s, q * q);
+        // Coefficients as constant reciprocals (multiplications, not divisions).
+        const K: [f64; 9] = [
+            1.0 / 12.0,
+            1.0 / 24.0,
+            1.0 / 160.0,
+            1.0 / 160.0,
+            1.0 / 2688.0,
+            1.0 / 1920.0,
+            1.0 / 1792.0,
+            1.0 / 10752.0,
+            1.0 / 322_560.0,
+        ];
+        let series = 1.0 - q * K[0] + s2 * K[1] + q2 * K[2] - s2 * q * K[3] - q2 * q * K[4]
+            + s2 * s2 * K[5]
+            + s2 * q2 * K[6]
+            - s2 * s2 * q * K[7]
+            + s2 * s2 * s2 * K[8];
+        return (trans, e * series);
+    }
+    let trans = exp_neg(p + q);
+    let i = if need_i {
+        depth_integral(p, q, trans)
+    } else {
+        0.0
+    };
+    (trans, i)
+}
+
 /// One piece with colour and extinction linear in the ray parameter: premultiplied colour and
 /// transmittance.
 #[inline(always)]
 fn linear_piece(c0: [f64; 3], t0: f64, c1: [f64; 3], t1: f64, len: f64) -> ([f64; 3], f64) {
     let p = len * t0;
     let q = 0.5 * len * (t1 - t0);
-    let trans = exp_neg(p + q);
     // Integration by parts: int c tau e^-T = c0 - c1 e^-T1 + (c1 - c0) int e^-T.
-    let needs_i = c0 != c1;
-    let i = if needs_i {
-        depth_integral(p, q, trans)
-    } else {
-        0.0
-    };
+    let (trans, i) = piece_integrals(p, q, c0 != c1);
     // Written out: `[0, 1, 2].map` here is left as a call in some builds.
     (
         [
@@ -367,7 +383,12 @@ impl Acc {
 
     #[inline(always)]
     fn rgba(&self) -> [f64; 4] {
-        [self.color[0], self.color[1], self.color[2], 1.0 - self.trans]
+        [
+            self.color[0],
+            self.color[1],
+            self.color[2],
+            1.0 - self.trans,
+        ]
     }
 }
 
@@ -677,8 +698,10 @@ mod tests {
                 })
                 .sum::<f64>()
                 / n as f64;
-            let i = depth_integral(p, q, (-(p + q)).exp());
+            let (tr, i) = piece_integrals(p, q, true);
             assert!((i - fine).abs() < 1e-12, "{p} {q}: {i} vs {fine}");
+            let e = (-(p + q)).exp();
+            assert!((tr - e).abs() < 1e-14, "{p} {q}: {tr} vs {e}");
         }
     }
 
@@ -705,8 +728,10 @@ mod tests {
                 })
                 .sum::<f64>()
                 / n as f64;
-            let i = depth_integral(p, q, (-(p + q)).exp());
+            let (tr, i) = piece_integrals(p, q, true);
             assert!((i - fine).abs() < 3e-10 * fine, "{p} {q}: {i} vs {fine}");
+            let e = (-(p + q)).exp();
+            assert!((tr - e).abs() < 1e-14, "{p} {q}: {tr} vs {e}");
         }
     }
 
