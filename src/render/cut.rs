@@ -431,15 +431,19 @@ fn raster_plain(
     shader: &Shader,
 ) -> (u64, usize) {
     match shader {
-        Shader::Pre(tab) => pt::raster(t, parallel, tile, buf, stretch, width, &|a, b, l| {
-            tab.lookup(a, b, l)
-        }),
-        Shader::Average(tf) => pt::raster(t, parallel, tile, buf, stretch, width, &|a, b, l| {
-            tf.average(a, b, l)
-        }),
-        Shader::Linear(tf) => pt::raster(t, parallel, tile, buf, stretch, width, &|a, b, l| {
-            tf.linear(a, b, l)
-        }),
+        Shader::Pre(tab) => pt::raster(t, parallel, tile, buf, stretch, width, tab),
+        Shader::Average(tf) => pt::raster(
+            t,
+            parallel,
+            tile,
+            buf,
+            stretch,
+            width,
+            &pt::AverageShade(tf),
+        ),
+        Shader::Linear(tf) => {
+            pt::raster(t, parallel, tile, buf, stretch, width, &pt::LinearShade(tf))
+        }
     }
 }
 
@@ -467,26 +471,25 @@ fn raster_split(
     shaders: &[&Shader],
     st: &mut SplitStats,
 ) -> usize {
-    let (tx0, ty0, tx1, ty1) = tile;
-    let (x0, x1, y0, y1) = (t.x0.max(tx0), t.x1.min(tx1), t.y0.max(ty0), t.y1.min(ty1));
-    if x0 > x1 || y0 > y1 {
+    let (tx0, ty0, tx1, _) = tile;
+    let Some((x0, x1, y0, y1)) = t.clip(tile) else {
         return 0;
-    }
+    };
     let tw = (tx1 - tx0 + 1) as usize;
     let mut newly_opaque = 0usize;
-    let ne = t.nedges;
+    let ne = t.nedges as usize;
+    let edges = t.edges();
     for y in y0..=y1 {
         let fy = y * SUB + SUB / 2;
         let fx0 = x0 * SUB + SUB / 2;
         let mut e = [0i64; 4];
-        for (ek, ed) in e.iter_mut().zip(&t.edges[..ne]) {
+        for (ek, ed) in e.iter_mut().zip(&edges[..ne]) {
             *ek = ed.a * fx0 + ed.b * fy + ed.c + ed.bias;
         }
         let row = (y - ty0) as usize * tw;
-        let cy = y as f32 + 0.5;
         for x in x0..=x1 {
             let mut inside = true;
-            for (ek, ed) in e.iter_mut().zip(&t.edges[..ne]) {
+            for (ek, ed) in e.iter_mut().zip(&edges[..ne]) {
                 inside &= *ek >= 0;
                 *ek += ed.a * SUB;
             }
@@ -498,7 +501,7 @@ fn raster_split(
             if slot[3] >= OPAQUE {
                 continue;
             }
-            let (zf, zb, sref, h) = pt::fragment_span(t, parallel, x as f32 + 0.5, cy);
+            let (zf, zb, sref, h) = pt::fragment_span(t, parallel, x, y);
             if !(zb > zf) || !zf.is_finite() || !zb.is_finite() {
                 continue;
             }

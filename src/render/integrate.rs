@@ -544,7 +544,7 @@ impl PreintTable {
     }
 
     /// Trilinear lookup.
-    #[inline]
+    #[inline(always)]
     pub fn lookup(&self, sf: f32, sb: f32, l: f32) -> [f32; 4] {
         let top = (self.ns - 1) as f32;
         let xf = ((sf - self.s0) * self.inv_ds).clamp(0.0, top);
@@ -555,26 +555,39 @@ impl PreintTable {
             (xb as usize).min(self.ns - 2),
             (xl as usize).min(self.nl - 2),
         );
-        let (tf, tb, tl) = (xf - i as f32, xb - j as f32, xl - k as f32);
-        let ns = self.ns;
-        let base = (k * ns + j) * ns + i;
-        let d = &self.data;
-        #[inline(always)]
-        fn lerp4(a: &[f32; 4], b: &[f32; 4], t: f32) -> [f32; 4] {
-            [
-                a[0] + t * (b[0] - a[0]),
-                a[1] + t * (b[1] - a[1]),
-                a[2] + t * (b[2] - a[2]),
-                a[3] + t * (b[3] - a[3]),
-            ]
-        }
-        let plane = |o: usize| {
-            let r0 = lerp4(&d[o], &d[o + 1], tf);
-            let r1 = lerp4(&d[o + ns], &d[o + ns + 1], tf);
-            lerp4(&r0, &r1, tb)
-        };
-        lerp4(&plane(base), &plane(base + ns * ns), tl)
+        let base = (k * self.ns + j) * self.ns + i;
+        self.corners(base, xf - i as f32, xb - j as f32, xl - k as f32)
     }
+
+    /// Trilinear blend of the eight entries from `base` with weights along (Sf, Sb, l).
+    #[inline(always)]
+    pub fn corners(&self, base: usize, tf: f32, tb: f32, tl: f32) -> [f32; 4] {
+        let ns = self.ns;
+        // One bounds check for the eight corners.
+        let d = &self.data[base..base + ns * ns + ns + 2];
+        let (o0, o1) = (0, ns * ns);
+        let p0 = lerp4(
+            lerp4(d[o0], d[o0 + 1], tf),
+            lerp4(d[o0 + ns], d[o0 + ns + 1], tf),
+            tb,
+        );
+        let p1 = lerp4(
+            lerp4(d[o1], d[o1 + 1], tf),
+            lerp4(d[o1 + ns], d[o1 + ns + 1], tf),
+            tb,
+        );
+        lerp4(p0, p1, tl)
+    }
+}
+
+#[inline(always)]
+fn lerp4(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
+    [
+        a[0] + t * (b[0] - a[0]),
+        a[1] + t * (b[1] - a[1]),
+        a[2] + t * (b[2] - a[2]),
+        a[3] + t * (b[3] - a[3]),
+    ]
 }
 
 #[cfg(test)]

@@ -219,6 +219,33 @@ pub(crate) struct Edge {
     pub(crate) bias: i64,
 }
 
+impl TetSetup {
+    /// The silhouette's edges: the first [`TetSetup::nedges`] entries.
+    #[inline(always)]
+    pub(crate) fn edges(&self) -> [Edge; 4] {
+        let n = self.nedges as usize;
+        let p = |k: usize| {
+            let q = self.poly[k % n];
+            (q[0] as i64, q[1] as i64)
+        };
+        [0, 1, 2, 3].map(|e| Edge::new(p(e), p(e + 1)))
+    }
+
+    /// Pixel bounds (x0, x1, y0, y1), inclusive, clipped to `tile` (x0, y0, x1, y1); `None`
+    /// when they miss it.
+    #[inline(always)]
+    pub(crate) fn clip(&self, tile: (i64, i64, i64, i64)) -> Option<(i64, i64, i64, i64)> {
+        let (tx0, ty0, tx1, ty1) = tile;
+        let b = (
+            (self.x0 as i64).max(tx0),
+            (self.x1 as i64).min(tx1),
+            (self.y0 as i64).max(ty0),
+            (self.y1 as i64).min(ty1),
+        );
+        (b.0 <= b.1 && b.2 <= b.3).then_some(b)
+    }
+}
+
 impl Edge {
     /// Edge from `p` to `q` of a positively oriented polygon.
     #[inline]
@@ -236,22 +263,24 @@ impl Edge {
     }
 }
 
-/// Everything one tet needs per pixel, set up from its projected vertices.
+/// Everything one tet needs per pixel, set up once per frame from its projected vertices and
+/// kept compact (f32, fixed-point corners), since a frame holds one per drawn tet.
+#[derive(Clone, Copy)]
 pub(crate) struct TetSetup {
-    pub(crate) edges: [Edge; 4],
-    pub(crate) nedges: usize,
+    /// Silhouette corners (fixed point), positively oriented: `nedges` of them.
+    pub(crate) poly: [[i32; 2]; 4],
+    pub(crate) nedges: u32,
     /// Pixel bounds, inclusive.
-    pub(crate) x0: i64,
-    pub(crate) x1: i64,
-    pub(crate) y0: i64,
-    pub(crate) y1: i64,
+    pub(crate) x0: i32,
+    pub(crate) x1: i32,
+    pub(crate) y0: i32,
+    pub(crate) y1: i32,
     pub(crate) ox: f32,
     pub(crate) oy: f32,
-    /// Face depth planes relative to vertex 0: delta = c + ax dx + ay dy.
+    /// Face depth planes relative to vertex 0: delta = c + ax dx + ay dy. Unused slots repeat
+    /// a used plane, so min and max may take all three.
     pub(crate) front: [[f32; 3]; 3],
-    pub(crate) nfront: usize,
     pub(crate) back: [[f32; 3]; 3],
-    pub(crate) nback: usize,
     pub(crate) w0: f32,
     /// Scalar at vertex 0's depth along the pixel's ray, and its change per unit of depth.
     pub(crate) sref: [f32; 3],
@@ -291,6 +320,7 @@ fn class_index(c: ProjClass) -> usize {
 }
 
 /// Linear function through three screen points: value at `(ox, oy)` and slopes.
+#[inline(always)]
 fn plane_fit(p: [(f64, f64); 3], v: [f64; 3], ox: f64, oy: f64) -> Option<[f64; 3]> {
     let (e1x, e1y) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
     let (e2x, e2y) = (p[2].0 - p[0].0, p[2].1 - p[0].1);
@@ -305,6 +335,7 @@ fn plane_fit(p: [(f64, f64); 3], v: [f64; 3], ox: f64, oy: f64) -> Option<[f64; 
     (ax.is_finite() && ay.is_finite() && c.is_finite()).then_some([c, ax, ay])
 }
 
+#[inline(always)]
 pub(crate) fn setup_tet(
     view: &View,
     pv: [&Projected; 4],
@@ -359,15 +390,6 @@ pub(crate) fn setup_tet(
             poly[n] = fp[v];
         }
         nedges = 4;
-    }
-    let mut edges = [Edge {
-        a: 0,
-        b: 0,
-        c: 0,
-        bias: -1,
-    }; 4];
-    for e in 0..nedges {
-        edges[e] = Edge::new(poly[e], poly[(e + 1) % nedges]);
     }
     let (mut xmin, mut xmax, mut ymin, mut ymax) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
     for p in &fp {
@@ -489,18 +511,16 @@ pub(crate) fn setup_tet(
         back[k] = back[0];
     }
     Some(TetSetup {
-        edges,
-        nedges,
-        x0,
-        x1,
-        y0,
-        y1,
+        poly: poly.map(|p| [p.0 as i32, p.1 as i32]),
+        nedges: nedges as u32,
+        x0: x0 as i32,
+        x1: x1 as i32,
+        y0: y0 as i32,
+        y1: y1 as i32,
         ox: ox as f32,
         oy: oy as f32,
         front,
-        nfront: nf,
         back,
-        nback: nb,
         w0: w0 as f32,
         sref: sref.map(|x| x as f32),
         h: h.map(|x| x as f32),
@@ -509,124 +529,323 @@ pub(crate) fn setup_tet(
     })
 }
 
-/// One fragment's (Sf, Sb, l) at pixel centre `(cx, cy)`: all three plane slots evaluated (the
-/// unused ones repeat a used plane), so no branch depends on the tet's class.
+/// A fragment's entry and exit depths relative to vertex 0's depth, and its scalar as
+/// `sref + h * depth` (unclamped), at pixel centre `(cx, cy)`: what a scene splits at body
+/// crossings.
 #[inline(always)]
-fn fragment(t: &TetSetup, parallel: bool, cx: f32, cy: f32, stretch: f32) -> (f32, f32, f32) {
-    let (dx, dy) = (cx - t.ox, cy - t.oy);
-    let ev = |p: &[f32; 3]| p[0] + p[1] * dx + p[2] * dy;
-    let f = [ev(&t.front[0]), ev(&t.front[1]), ev(&t.front[2])];
-    let b = [ev(&t.back[0]), ev(&t.back[1]), ev(&t.back[2])];
+pub(crate) fn fragment_span(t: &TetSetup, parallel: bool, x: i64, y: i64) -> (f32, f32, f32, f32) {
+    // Evaluated exactly as [`fragments`] does, so a fragment the scene does not split matches
+    // the plain rasterizer's bit for bit.
+    let rp = RowPlanes::new(t, y as f32 + 0.5 - t.oy);
+    let dx = x as f32 + 0.5 - t.ox;
+    let ev = |p: &[f32; 2]| p[0] + p[1] * dx;
     let (zf, zb) = if parallel {
+        let f = rp.front.map(|p| ev(&p));
+        let b = rp.back.map(|p| ev(&p));
         (f[0].max(f[1]).max(f[2]), b[0].min(b[1]).min(b[2]))
     } else {
+        let f = rp.front.map(|p| ev(&p));
+        let b = rp.back.map(|p| ev(&p));
         let df = f[0].min(f[1]).min(f[2]);
         let db = b[0].max(b[1]).max(b[2]);
         // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
         let w0 = t.w0;
         (-df / (w0 * (w0 + df)), -db / (w0 * (w0 + db)))
     };
-    let l = ((zb - zf) * stretch).max(0.0);
-    let sref = ev(&t.sref);
-    let h = ev(&t.h);
-    let sf = (sref + zf * h).clamp(t.smin, t.smax);
-    let sb = (sref + zb * h).clamp(t.smin, t.smax);
-    (sf, sb, if l.is_finite() { l } else { 0.0 })
+    (zf, zb, ev(&rp.sref), ev(&rp.h))
 }
 
-/// A fragment's entry and exit depths relative to vertex 0's depth, and its scalar as
-/// `sref + h * depth` (unclamped), at pixel centre `(cx, cy)`: what a scene splits at body
-/// crossings.
+/// Pixels of the batched fragment math: fixed-size loops over them vectorize (spans of small
+/// tets are short, so more lanes would mostly compute pixels outside the span).
+pub(crate) const LANES: usize = 4;
+
+/// (Sf, Sb, l) of [`LANES`] fragments.
+pub(crate) type Lanes = [[f32; LANES]; 3];
+
+/// Colour and opacity of fragments for the rasterizer: per-lane arithmetic for [`LANES`]
+/// fragments at once (it vectorizes), then per-pixel reads for the lanes that are drawn.
+pub(crate) trait Shade {
+    type Prep;
+    fn prep(&self, f: &Lanes) -> Self::Prep;
+    fn at(&self, p: &Self::Prep, i: usize) -> [f32; 4];
+}
+
+/// Table corners and weights of [`LANES`] lookups.
+pub(crate) struct TableLanes {
+    base: [usize; LANES],
+    w: [[f32; LANES]; 3],
+}
+
+impl Shade for PreintTable {
+    type Prep = TableLanes;
+    #[inline(always)]
+    fn prep(&self, f: &Lanes) -> TableLanes {
+        let top = (self.ns - 1) as f32;
+        let ltop = (self.nl - 1) as f32;
+        let (mut base, mut w) = ([0usize; LANES], [[0f32; LANES]; 3]);
+        let (ns, nl) = (self.ns as i32, self.nl as i32);
+        for i in 0..LANES {
+            // max then min (not clamp): NaN becomes 0, so every value is in [0, top].
+            let xf = ((f[0][i] - self.s0) * self.inv_ds).max(0.0).min(top);
+            let xb = ((f[1][i] - self.s0) * self.inv_ds).max(0.0).min(top);
+            let xl = (f[2][i] * self.inv_dl).max(0.0).min(ltop);
+            // SAFETY: each value is finite and in [0, ns - 1] or [0, nl - 1] (table sizes are
+            // far below i32::MAX), where truncation to i32 is defined; the checked cast would
+            // not vectorize.
+            let (a, b, c) = unsafe {
+                (
+                    xf.to_int_unchecked::<i32>().min(ns - 2),
+                    xb.to_int_unchecked::<i32>().min(ns - 2),
+                    xl.to_int_unchecked::<i32>().min(nl - 2),
+                )
+            };
+            w[0][i] = xf - a as f32;
+            w[1][i] = xb - b as f32;
+            w[2][i] = xl - c as f32;
+            base[i] = ((c * ns + b) * ns + a) as usize;
+        }
+        TableLanes { base, w }
+    }
+    #[inline(always)]
+    fn at(&self, p: &TableLanes, i: usize) -> [f32; 4] {
+        self.corners(p.base[i], p.w[0][i], p.w[1][i], p.w[2][i])
+    }
+}
+
+/// VTK's averaged integration ([`FastTf::average`]) as a [`Shade`].
+pub(crate) struct AverageShade<'a>(pub(crate) &'a FastTf);
+/// Linear integration ([`FastTf::linear`]) as a [`Shade`].
+pub(crate) struct LinearShade<'a>(pub(crate) &'a FastTf);
+
+impl Shade for AverageShade<'_> {
+    type Prep = Lanes;
+    #[inline(always)]
+    fn prep(&self, f: &Lanes) -> Lanes {
+        *f
+    }
+    #[inline(always)]
+    fn at(&self, f: &Lanes, i: usize) -> [f32; 4] {
+        self.0.average(f[0][i], f[1][i], f[2][i])
+    }
+}
+
+impl Shade for LinearShade<'_> {
+    type Prep = Lanes;
+    #[inline(always)]
+    fn prep(&self, f: &Lanes) -> Lanes {
+        *f
+    }
+    #[inline(always)]
+    fn at(&self, f: &Lanes, i: usize) -> [f32; 4] {
+        self.0.linear(f[0][i], f[1][i], f[2][i])
+    }
+}
+
+/// An edge prepared for [`span`]: its value at pixel `x` of row `y` is `ea x + k0 + k1 y`.
+#[derive(Clone, Copy)]
+pub(crate) struct SpanEdge {
+    ea: i64,
+    k0: i64,
+    k1: i64,
+    /// `1 / ea` for the floating-point estimate of the bound.
+    inv: f64,
+}
+
+/// The silhouette's edges prepared for [`span`]: `n` of them.
+pub(crate) struct SpanEdges {
+    e: [SpanEdge; 4],
+    n: usize,
+}
+
+impl SpanEdges {
+    #[inline(always)]
+    pub(crate) fn new(t: &TetSetup) -> SpanEdges {
+        let e = t.edges().map(|e| SpanEdge {
+            ea: e.a * SUB,
+            k0: e.a * (SUB / 2) + e.b * (SUB / 2) + e.c + e.bias,
+            k1: e.b * SUB,
+            inv: if e.a != 0 {
+                1.0 / (e.a * SUB) as f64
+            } else {
+                0.0
+            },
+        });
+        SpanEdges {
+            e,
+            n: t.nedges as usize,
+        }
+    }
+
+    /// The run of pixels `x` in `[lo, hi]` of row `y` whose centres lie inside every edge. The
+    /// silhouette is convex, so the run is contiguous; each edge's bound comes from a
+    /// floating-point estimate corrected by the exact integer test, so the run is exactly the
+    /// pixels the per-pixel edge test takes.
+    #[inline(always)]
+    pub(crate) fn span(&self, y: i64, lo: i64, hi: i64) -> Option<(i64, i64)> {
+        let (mut a, mut b) = (lo, hi);
+        for e in &self.e[..self.n] {
+            let (ea, eb) = (e.ea, e.k0 + e.k1 * y);
+            // The estimate truncates and saturates; the integer loops make the bound exact.
+            let est = || ((-(eb as f64) * e.inv) as i64).clamp(lo - 1, hi + 1);
+            if ea > 0 {
+                let mut x = est();
+                while x > a && ea * (x - 1) + eb >= 0 {
+                    x -= 1;
+                }
+                while x <= b && ea * x + eb < 0 {
+                    x += 1;
+                }
+                a = a.max(x);
+            } else if ea < 0 {
+                let mut x = est();
+                while x < b && ea * (x + 1) + eb >= 0 {
+                    x += 1;
+                }
+                while x >= a && ea * x + eb < 0 {
+                    x -= 1;
+                }
+                b = b.min(x);
+            } else if eb < 0 {
+                return None;
+            }
+            if a > b {
+                return None;
+            }
+        }
+        Some((a, b))
+    }
+}
+
+/// One row's depth and scalar planes with the row's offset folded in: `[value at dx = 0, slope]`.
+struct RowPlanes {
+    front: [[f32; 2]; 3],
+    back: [[f32; 2]; 3],
+    sref: [f32; 2],
+    h: [f32; 2],
+}
+
+impl RowPlanes {
+    #[inline(always)]
+    fn new(t: &TetSetup, dy: f32) -> RowPlanes {
+        let r = |p: &[f32; 3]| [p[0] + p[2] * dy, p[1]];
+        RowPlanes {
+            front: [r(&t.front[0]), r(&t.front[1]), r(&t.front[2])],
+            back: [r(&t.back[0]), r(&t.back[1]), r(&t.back[2])],
+            sref: r(&t.sref),
+            h: r(&t.h),
+        }
+    }
+}
+
+/// (Sf, Sb, l) of [`LANES`] consecutive pixels of a row, the first at `dx0` from the tet's
+/// origin: all three plane slots evaluated (the unused ones repeat a used plane), so no branch
+/// depends on the tet's class.
 #[inline(always)]
-pub(crate) fn fragment_span(
+fn fragments(
     t: &TetSetup,
+    rp: &RowPlanes,
     parallel: bool,
-    cx: f32,
-    cy: f32,
-) -> (f32, f32, f32, f32) {
-    let (dx, dy) = (cx - t.ox, cy - t.oy);
-    let ev = |p: &[f32; 3]| p[0] + p[1] * dx + p[2] * dy;
-    let (zf, zb) = if parallel {
-        let mut df = f32::NEG_INFINITY;
-        for p in &t.front[..t.nfront] {
-            df = df.max(ev(p));
+    x: i64,
+    stretch: &[f32; LANES],
+) -> Lanes {
+    let mut dx = [0f32; LANES];
+    for (i, d) in dx.iter_mut().enumerate() {
+        *d = (x as i32 + i as i32) as f32 + 0.5 - t.ox;
+    }
+    let ev = |p: &[f32; 2], d: f32| p[0] + p[1] * d;
+    let (mut zf, mut zb) = ([0f32; LANES], [0f32; LANES]);
+    if parallel {
+        for i in 0..LANES {
+            let d = dx[i];
+            zf[i] = ev(&rp.front[0], d)
+                .max(ev(&rp.front[1], d))
+                .max(ev(&rp.front[2], d));
+            zb[i] = ev(&rp.back[0], d)
+                .min(ev(&rp.back[1], d))
+                .min(ev(&rp.back[2], d));
         }
-        let mut db = f32::INFINITY;
-        for p in &t.back[..t.nback] {
-            db = db.min(ev(p));
-        }
-        (df, db)
     } else {
-        let mut df = f32::INFINITY;
-        for p in &t.front[..t.nfront] {
-            df = df.min(ev(p));
-        }
-        let mut db = f32::NEG_INFINITY;
-        for p in &t.back[..t.nback] {
-            db = db.max(ev(p));
-        }
-        // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
         let w0 = t.w0;
-        (-df / (w0 * (w0 + df)), -db / (w0 * (w0 + db)))
-    };
-    (zf, zb, ev(&t.sref), ev(&t.h))
+        for i in 0..LANES {
+            let d = dx[i];
+            let df = ev(&rp.front[0], d)
+                .min(ev(&rp.front[1], d))
+                .min(ev(&rp.front[2], d));
+            let db = ev(&rp.back[0], d)
+                .max(ev(&rp.back[1], d))
+                .max(ev(&rp.back[2], d));
+            // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
+            zf[i] = -df / (w0 * (w0 + df));
+            zb[i] = -db / (w0 * (w0 + db));
+        }
+    }
+    let (mut sf, mut sb, mut l) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+    for i in 0..LANES {
+        let d = dx[i];
+        let sref = ev(&rp.sref, d);
+        let h = ev(&rp.h, d);
+        sf[i] = (sref + zf[i] * h).clamp(t.smin, t.smax);
+        sb[i] = (sref + zb[i] * h).clamp(t.smin, t.smax);
+        let li = ((zb[i] - zf[i]) * stretch[i]).max(0.0);
+        l[i] = if li.is_finite() { li } else { 0.0 };
+    }
+    [sf, sb, l]
 }
 
 /// Rasterizes one tet into a tile buffer (front to back). Returns fragments drawn and how many
 /// pixels became opaque.
 #[inline(always)]
-pub(crate) fn raster<F: Fn(f32, f32, f32) -> [f32; 4]>(
+pub(crate) fn raster<S: Shade>(
     t: &TetSetup,
     parallel: bool,
     tile: (i64, i64, i64, i64),
     buf: &mut [[f32; 4]],
     stretch: &[f32],
     width: usize,
-    shade: &F,
+    shade: &S,
 ) -> (u64, usize) {
-    let (tx0, ty0, tx1, ty1) = tile;
-    let (x0, x1, y0, y1) = (t.x0.max(tx0), t.x1.min(tx1), t.y0.max(ty0), t.y1.min(ty1));
-    if x0 > x1 || y0 > y1 {
+    let (tx0, ty0, tx1, _) = tile;
+    let Some((x0, x1, y0, y1)) = t.clip(tile) else {
         return (0, 0);
-    }
+    };
     let tw = (tx1 - tx0 + 1) as usize;
     let mut frags = 0u64;
     let mut newly_opaque = 0usize;
-    let ne = t.nedges;
+    let edges = SpanEdges::new(t);
     for y in y0..=y1 {
-        let fy = y * SUB + SUB / 2;
-        let fx0 = x0 * SUB + SUB / 2;
-        let mut e = [0i64; 4];
-        for (ek, ed) in e.iter_mut().zip(&t.edges[..ne]) {
-            *ek = ed.a * fx0 + ed.b * fy + ed.c + ed.bias;
-        }
-        let row = (y - ty0) as usize * tw;
-        let cy = y as f32 + 0.5;
-        for x in x0..=x1 {
-            let mut inside = true;
-            for (ek, ed) in e.iter_mut().zip(&t.edges[..ne]) {
-                inside &= *ek >= 0;
-                *ek += ed.a * SUB;
+        let Some((xa, xb)) = edges.span(y, x0, x1) else {
+            continue;
+        };
+        let rp = RowPlanes::new(t, y as f32 + 0.5 - t.oy);
+        let row = &mut buf[(y - ty0) as usize * tw..][..tw];
+        let srow = &stretch[y as usize * width..][..width];
+        let mut x = xa;
+        while x <= xb {
+            let n = ((xb - x + 1) as usize).min(LANES);
+            let xs = x as usize;
+            let st: [f32; LANES] = match srow.get(xs..xs + LANES) {
+                Some(s) => s.try_into().unwrap_or([0.0; LANES]),
+                None => std::array::from_fn(|i| srow.get(xs + i).copied().unwrap_or(0.0)),
+            };
+            let f = fragments(t, &rp, parallel, x, &st);
+            let prep = shade.prep(&f);
+            let out = &mut row[(x - tx0) as usize..][..n];
+            for (i, slot) in out.iter_mut().enumerate() {
+                if slot[3] >= OPAQUE {
+                    continue;
+                }
+                let c = shade.at(&prep, i);
+                let k = 1.0 - slot[3];
+                slot[0] += k * c[0];
+                slot[1] += k * c[1];
+                slot[2] += k * c[2];
+                slot[3] += k * c[3];
+                frags += 1;
+                if slot[3] >= OPAQUE {
+                    newly_opaque += 1;
+                }
             }
-            if !inside {
-                continue;
-            }
-            let slot = &mut buf[row + (x - tx0) as usize];
-            if slot[3] >= OPAQUE {
-                continue;
-            }
-            let st = stretch[y as usize * width + x as usize];
-            let (sf, sb, l) = fragment(t, parallel, x as f32 + 0.5, cy, st);
-            let c = shade(sf, sb, l);
-            let k = 1.0 - slot[3];
-            slot[0] += k * c[0];
-            slot[1] += k * c[1];
-            slot[2] += k * c[2];
-            slot[3] += k * c[3];
-            frags += 1;
-            if slot[3] >= OPAQUE {
-                newly_opaque += 1;
-            }
+            x += LANES as i64;
         }
     }
     (frags, newly_opaque)
@@ -659,7 +878,7 @@ pub enum Schedule {
 pub const CHUNKS: usize = 16;
 
 /// Rasterizes one set-up tet into a buffer covering `tile`, with the shader's integration.
-#[inline]
+#[inline(always)]
 fn draw(
     setup: &TetSetup,
     parallel: bool,
@@ -670,15 +889,9 @@ fn draw(
     shader: &Shader,
 ) -> (u64, usize) {
     match shader {
-        Shader::Pre(tab) => raster(setup, parallel, tile, buf, stretch, w, &|a, b, l| {
-            tab.lookup(a, b, l)
-        }),
-        Shader::Average(tf) => raster(setup, parallel, tile, buf, stretch, w, &|a, b, l| {
-            tf.average(a, b, l)
-        }),
-        Shader::Linear(tf) => raster(setup, parallel, tile, buf, stretch, w, &|a, b, l| {
-            tf.linear(a, b, l)
-        }),
+        Shader::Pre(tab) => raster(setup, parallel, tile, buf, stretch, w, tab),
+        Shader::Average(tf) => raster(setup, parallel, tile, buf, stretch, w, &AverageShade(tf)),
+        Shader::Linear(tf) => raster(setup, parallel, tile, buf, stretch, w, &LinearShade(tf)),
     }
 }
 
@@ -1024,40 +1237,178 @@ fn draw_clipped(
     (frags, newly)
 }
 
-/// [`Schedule::Tiles`]: image, counts, binning seconds.
+/// A tet of one frame, set up once for all the tiles it touches.
+enum Prepared {
+    Tet(TetSetup),
+    /// Drawn by the per-pixel clipping path, over its pixel box.
+    Clipped(Box<ClipSetup>, PixelBox),
+}
+
+impl Ctx<'_> {
+    /// Sets up tet `t` (counting its class): what its tiles draw and its pixel box.
+    #[inline(always)]
+    fn prepare(&self, t: u32, st: &mut PtStats) -> Option<(Prepared, PixelBox)> {
+        let tet = &self.tets[t as usize];
+        let pv = tet.map(|v| &self.proj[v as usize]);
+        let s = self.field.at(t as usize, tet);
+        if pv.iter().any(|p| !p.ok) {
+            st.clipped += 1;
+            let (w, h) = (self.view.width as usize, self.view.height as usize);
+            let c = ClipSetup::new(pv, s)?;
+            let b = clip_box(self.view, &pv, w, h)?;
+            return Some((Prepared::Clipped(Box::new(c), b), b));
+        }
+        let su = setup_tet(self.view, pv, s, st)?;
+        let b = (su.x0 as i64, su.y0 as i64, su.x1 as i64, su.y1 as i64);
+        Some((Prepared::Tet(su), b))
+    }
+
+    /// Draws a prepared tet into `buf` over `tile`: fragments and newly opaque pixels.
+    #[inline(always)]
+    fn draw_prepared(
+        &self,
+        p: &Prepared,
+        tile: (i64, i64, i64, i64),
+        buf: &mut [[f32; 4]],
+    ) -> (u64, usize) {
+        match p {
+            Prepared::Tet(su) => draw(
+                su,
+                self.view.parallel,
+                tile,
+                buf,
+                self.stretch,
+                self.view.width as usize,
+                self.shader,
+            ),
+            Prepared::Clipped(c, b) => {
+                let part = (
+                    tile.0.max(b.0),
+                    tile.1.max(b.1),
+                    tile.2.min(b.2),
+                    tile.3.min(b.3),
+                );
+                if part.0 > part.2 || part.1 > part.3 {
+                    return (0, 0);
+                }
+                draw_clipped(c, self.view, tile, part, buf, self.shader)
+            }
+        }
+    }
+}
+
+/// Set-up tets of a run of the order, their indices binned per tile, and their counts.
+type Binned = (Vec<Prepared>, Vec<Vec<u32>>, PtStats);
+
+/// Sets up a run of the order and bins it per tile (`ntx` tiles a row, `ntiles` in all).
+#[inline(always)]
+fn bin(ctx: &Ctx, chunk: &[u32], ntx: usize, ntiles: usize) -> Binned {
+    let mut recs = Vec::with_capacity(chunk.len());
+    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ntiles];
+    let mut st = PtStats::default();
+    for &t in chunk {
+        let Some((rec, (x0, y0, x1, y1))) = ctx.prepare(t, &mut st) else {
+            continue;
+        };
+        let k = recs.len() as u32;
+        recs.push(rec);
+        for ty in (y0 as usize / TILE)..=(y1 as usize / TILE) {
+            for tx in (x0 as usize / TILE)..=(x1 as usize / TILE) {
+                lists[ty * ntx + tx].push(k);
+            }
+        }
+    }
+    (recs, lists, st)
+}
+
+/// [`bin`] compiled for AVX2 (bit for bit the same, as [`draw_tile_avx2`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn bin_avx2(ctx: &Ctx, chunk: &[u32], ntx: usize, ntiles: usize) -> Binned {
+    bin(ctx, chunk, ntx, ntiles)
+}
+
+/// [`bin`] with the widest instruction set the CPU has.
+fn bin_best(ctx: &Ctx, chunk: &[u32], ntx: usize, ntiles: usize) -> Binned {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        return unsafe { bin_avx2(ctx, chunk, ntx, ntiles) };
+    }
+    bin(ctx, chunk, ntx, ntiles)
+}
+
+/// Draws tile `ti` (pixel box `tile`) from the binned runs in order: its buffer and fragments.
+#[inline(always)]
+fn draw_tile(
+    ctx: &Ctx,
+    bins: &[Binned],
+    ti: usize,
+    tile: (i64, i64, i64, i64),
+) -> (Vec<[f32; 4]>, u64) {
+    let npix = ((tile.2 - tile.0 + 1) * (tile.3 - tile.1 + 1)) as usize;
+    let mut buf = vec![[0f32; 4]; npix];
+    let mut frags = 0u64;
+    let mut opaque = 0usize;
+    'outer: for (recs, lists, _) in bins {
+        for &k in &lists[ti] {
+            let (f, o) = ctx.draw_prepared(&recs[k as usize], tile, &mut buf);
+            frags += f;
+            opaque += o;
+            if opaque == npix {
+                break 'outer;
+            }
+        }
+    }
+    (buf, frags)
+}
+
+/// [`draw_tile`] compiled for AVX2: the per-pixel lanes vectorize far better than with the
+/// baseline SSE2. No fused multiply-add is enabled, so the image is bit for bit the same.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn draw_tile_avx2(
+    ctx: &Ctx,
+    bins: &[Binned],
+    ti: usize,
+    tile: (i64, i64, i64, i64),
+) -> (Vec<[f32; 4]>, u64) {
+    draw_tile(ctx, bins, ti, tile)
+}
+
+/// [`draw_tile`] with the widest instruction set the CPU has.
+fn draw_tile_best(
+    ctx: &Ctx,
+    bins: &[Binned],
+    ti: usize,
+    tile: (i64, i64, i64, i64),
+) -> (Vec<[f32; 4]>, u64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        return unsafe { draw_tile_avx2(ctx, bins, ti, tile) };
+    }
+    draw_tile(ctx, bins, ti, tile)
+}
+
+/// [`Schedule::Tiles`]: image, counts, seconds spent setting up and binning.
 fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
     let t1 = std::time::Instant::now();
     let (w, h) = (ctx.view.width as usize, ctx.view.height as usize);
-    // Bin the ordered tets per tile: chunks of the order in parallel, each chunk keeping its
-    // tets in order, so a tile that walks the chunks in turn sees the global order.
+    // Set up and bin the ordered tets per tile: chunks of the order in parallel, each chunk
+    // keeping its tets in order, so a tile that walks the chunks in turn sees the global order.
+    // Each tet is set up once, however many tiles it touches.
     let (ntx, nty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let ntiles = ntx * nty;
     const CHUNK: usize = 1 << 15;
-    let binned: Vec<(Vec<Vec<u32>>, PtStats)> = order
+    let bins: Vec<Binned> = order
         .par_chunks(CHUNK)
-        .map(|chunk| {
-            let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ntiles];
-            let mut st = PtStats::default();
-            for &t in chunk {
-                let p = ctx.tets[t as usize].map(|v| &ctx.proj[v as usize]);
-                count_class(&mut st, &p);
-                let Some((x0, y0, x1, y1)) = pixel_box(ctx.view, &p, w, h) else {
-                    continue;
-                };
-                for ty in (y0 as usize / TILE)..=(y1 as usize / TILE) {
-                    for tx in (x0 as usize / TILE)..=(x1 as usize / TILE) {
-                        lists[ty * ntx + tx].push(t);
-                    }
-                }
-            }
-            (lists, st)
-        })
+        .map(|chunk| bin_best(ctx, chunk, ntx, ntiles))
         .collect();
     let mut stats = PtStats::default();
-    for (_, st) in &binned {
+    for (_, _, st) in &bins {
         stats.add(st);
     }
-    let bins: Vec<Vec<Vec<u32>>> = binned.into_iter().map(|b| b.0).collect();
     let bin_s = t1.elapsed().as_secs_f64();
 
     let tiles: Vec<(Vec<[f32; 4]>, u64)> = (0..ntiles)
@@ -1069,22 +1420,7 @@ fn render_tiles(ctx: &Ctx, order: &[u32]) -> (Image, PtStats, f64) {
                 ((tx + 1) * TILE).min(w) as i64 - 1,
                 ((ty + 1) * TILE).min(h) as i64 - 1,
             );
-            let npix = ((px1 - px0 + 1) * (py1 - py0 + 1)) as usize;
-            let mut buf = vec![[0f32; 4]; npix];
-            let mut frags = 0u64;
-            let mut opaque = 0usize;
-            let tile = (px0, py0, px1, py1);
-            'outer: for chunk in &bins {
-                for &t in &chunk[ti] {
-                    let (f, o) = ctx.tet(t, tile, &mut buf);
-                    frags += f;
-                    opaque += o;
-                    if opaque == npix {
-                        break 'outer;
-                    }
-                }
-            }
-            (buf, frags)
+            draw_tile_best(ctx, &bins, ti, (px0, py0, px1, py1))
         })
         .collect();
     let mut img = Image::new(ctx.view.width, ctx.view.height);

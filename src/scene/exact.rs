@@ -71,7 +71,6 @@ impl Dyadic {
 /// ([`Dyadic`], always known) or a filter ([`super::interval::Interval`], unknown when its
 /// rounding bound straddles zero).
 pub trait Arith: Clone {
-    fn of(x: f64) -> Self;
     /// `x - y`.
     fn diff(x: f64, y: f64) -> Self;
     fn add(&self, o: &Self) -> Self;
@@ -82,9 +81,6 @@ pub trait Arith: Clone {
 }
 
 impl Arith for Dyadic {
-    fn of(x: f64) -> Dyadic {
-        Dyadic::from_f64(x)
-    }
     fn diff(x: f64, y: f64) -> Dyadic {
         Dyadic::from_f64(x).sub(&Dyadic::from_f64(y))
     }

@@ -1,6 +1,7 @@
 //! Exact test of a closed tet against the open interior of a cylinder or cone frustum: one
-//! polynomial procedure run first in outward-rounded intervals, then, only where an interval
-//! cannot settle a sign, in exact dyadic arithmetic.
+//! polynomial procedure run first in floats with a proven error bound ([`Fb`]), then in
+//! outward-rounded intervals (inputs the bound does not cover), then, only where neither can
+//! settle a sign, in exact dyadic arithmetic.
 //!
 //! The body with axis `a = end - start` (`L^2 = a.a`), radii `r0` at `start` and `r1` at `end`,
 //! is, for `w = x - start`, `u = w.a` and `c = a x w` (so `|c| = L * distance to the axis`),
@@ -31,6 +32,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::exact::{Arith, Dyadic};
+use super::fb::Fb;
 use super::interval::Interval;
 
 static FALLBACKS: AtomicU64 = AtomicU64::new(0);
@@ -41,8 +43,9 @@ pub fn exact_fallbacks() -> u64 {
 }
 
 /// Whether the closed tet `p` meets the open frustum (see the module doc). Radii must be
-/// non-negative and not both zero, `start != end`; otherwise the body has no interior and
-/// nothing meets it. A flat tet is the caller's business (it has no interior either).
+/// non-negative and not both zero, `start != end`, all finite; otherwise the body has no
+/// interior and nothing meets it. A flat tet is the caller's business (it has no interior
+/// either).
 pub fn tet_meets_frustum(
     p: &[[f64; 3]; 4],
     start: &[f64; 3],
@@ -50,16 +53,52 @@ pub fn tet_meets_frustum(
     r0: f64,
     r1: f64,
 ) -> bool {
-    if let Some(hit) = decide::<Interval>(p, start, end, r0, r1) {
+    if !valid(p, start, end, r0, r1) {
+        return false;
+    }
+    if let Some(hit) = fast(p, start, end, r0, r1) {
+        return hit;
+    }
+    if let Some(hit) = decide(Interval::diff, p, start, end, r0, r1) {
         return hit;
     }
     FALLBACKS.fetch_add(1, Ordering::Relaxed);
-    decide_exact(p, start, end, r0, r1)
+    decide(Dyadic::diff, p, start, end, r0, r1) == Some(true)
 }
 
-/// The same decision in dyadic arithmetic only (the reference the filter must agree with).
+/// The same decision in dyadic arithmetic only (the reference the filters must agree with).
 pub fn decide_exact(p: &[[f64; 3]; 4], start: &[f64; 3], end: &[f64; 3], r0: f64, r1: f64) -> bool {
-    decide::<Dyadic>(p, start, end, r0, r1) == Some(true)
+    valid(p, start, end, r0, r1) && decide(Dyadic::diff, p, start, end, r0, r1) == Some(true)
+}
+
+fn valid(p: &[[f64; 3]; 4], start: &[f64; 3], end: &[f64; 3], r0: f64, r1: f64) -> bool {
+    let finite = p
+        .iter()
+        .chain([start, end])
+        .all(|x| x.iter().all(|v| v.is_finite()));
+    finite
+        && r0 >= 0.0
+        && r1 >= 0.0
+        && r0.is_finite()
+        && r1.is_finite()
+        && (r0 > 0.0 || r1 > 0.0)
+        && start != end
+}
+
+/// The decision in [`Fb`] floats, every leaf (a difference from `start`, a radius) scaled by
+/// the power of two that brings the largest to `[1, 2)`: exact, and every test is homogeneous
+/// in the leaves, so the signs are those of the unscaled problem. `None` where a sign is not
+/// certain or a leaf is out of [`Fb`]'s range.
+fn fast(p: &[[f64; 3]; 4], start: &[f64; 3], end: &[f64; 3], r0: f64, r1: f64) -> Option<bool> {
+    let mut mx = r0.max(r1);
+    for k in 0..3 {
+        mx = mx.max((end[k] - start[k]).abs());
+        for x in p {
+            mx = mx.max((x[k] - start[k]).abs());
+        }
+    }
+    let s = Fb::scale_for(mx)?;
+    decide(|x, y| Fb::scaled_diff(x, y, s), p, start, end, r0, r1)
 }
 
 type V<N> = [N; 3];
@@ -86,7 +125,11 @@ struct Gen<N> {
 /// `s * x + t * y` for positive `s`, `t`.
 fn combine<N: Arith>(s: &N, x: &Gen<N>, t: &N, y: &Gen<N>) -> Gen<N> {
     Gen {
-        c: [0, 1, 2].map(|k| s.mul(&x.c[k]).add(&t.mul(&y.c[k]))),
+        c: [
+            s.mul(&x.c[0]).add(&t.mul(&y.c[0])),
+            s.mul(&x.c[1]).add(&t.mul(&y.c[1])),
+            s.mul(&x.c[2]).add(&t.mul(&y.c[2])),
+        ],
         rho: s.mul(&x.rho).add(&t.mul(&y.rho)),
     }
 }
@@ -114,62 +157,80 @@ impl Any {
 
 const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
 
-/// The procedure of the module doc over `N`; `None` only where a sign is unknown in `N`.
-pub(crate) fn decide<N: Arith>(
+/// The procedure of the module doc over `N`, whose leaves `leaf(x, y)` stand for `x - y` (a
+/// radius is `leaf(r, 0)`); `None` only where a sign is unknown in `N`.
+fn decide<N: Arith>(
+    leaf: impl Fn(f64, f64) -> N,
     p: &[[f64; 3]; 4],
     start: &[f64; 3],
     end: &[f64; 3],
     r0: f64,
     r1: f64,
 ) -> Option<bool> {
-    let finite = p
-        .iter()
-        .chain([start, end])
-        .all(|x| x.iter().all(|v| v.is_finite()));
-    if !(finite && r0 >= 0.0 && r1 >= 0.0 && r0.is_finite() && r1.is_finite()) {
-        return Some(false);
-    }
-    if (r0 == 0.0 && r1 == 0.0) || start == end {
-        return Some(false);
-    }
-    let a: V<N> = [0, 1, 2].map(|k| N::diff(end[k], start[k]));
+    // Arrays are spelled out: `map` and `from_fn` are not inlined here, and this is hot.
+    let diff = |x: &[f64; 3]| {
+        [
+            leaf(x[0], start[0]),
+            leaf(x[1], start[1]),
+            leaf(x[2], start[2]),
+        ]
+    };
+    let a: V<N> = diff(end);
     let l2 = dot(&a, &a);
-    let w: Vec<V<N>> = p
-        .iter()
-        .map(|x| [0, 1, 2].map(|k| N::diff(x[k], start[k])))
-        .collect();
+    let rho0 = leaf(r0, 0.0).mul(&l2);
+    let dr = leaf(r1, r0);
+    let w: [V<N>; 4] = [diff(&p[0]), diff(&p[1]), diff(&p[2]), diff(&p[3])];
     // Axial positions against the cap planes u = 0 and u = L^2.
-    let mut u = Vec::with_capacity(4);
-    let mut side = [[0i32; 2]; 4];
-    for i in 0..4 {
-        let ui = dot(&w[i], &a);
+    let axial = |w: &V<N>| {
+        let ui = dot(w, &a);
         let far = ui.sub(&l2);
-        side[i] = [ui.sign()?, far.sign()?];
-        u.push([ui, far]);
-    }
-    if side.iter().all(|s| s[0] <= 0) || side.iter().all(|s| s[1] >= 0) {
-        return Some(false);
-    }
-    let rho0 = N::of(r0).mul(&l2);
-    let dr = N::diff(r1, r0);
+        [ui, far]
+    };
+    let u: [[N; 2]; 4] = [axial(&w[0]), axial(&w[1]), axial(&w[2]), axial(&w[3])];
     let gen = |i: usize| Gen {
         c: cross(&a, &w[i]),
         rho: rho0.add(&dr.mul(&u[i][0])),
     };
     // Q(x, y) = L^2 x.c y.c - x.rho y.rho.
     let q = |x: &Gen<N>, y: &Gen<N>| l2.mul(&dot(&x.c, &y.c)).sub(&x.rho.mul(&y.rho));
+    // A vertex strictly inside settles most tets at once (it is in the open slab too).
+    let mut all: [Option<(Gen<N>, N)>; 4] = Default::default();
+    for i in 0..4 {
+        if u[i][0].sign() == Some(1) && u[i][1].sign() == Some(-1) {
+            let g = gen(i);
+            let qi = q(&g, &g);
+            if qi.sign() == Some(-1) {
+                return Some(true);
+            }
+            all[i] = Some((g, qi));
+        }
+    }
+    let mut side = [[0i32; 2]; 4];
+    for i in 0..4 {
+        side[i] = [u[i][0].sign()?, u[i][1].sign()?];
+    }
+    if side.iter().all(|s| s[0] <= 0) || side.iter().all(|s| s[1] >= 0) {
+        return Some(false);
+    }
+    let known = |i: usize| match &all[i] {
+        Some((g, _)) => g.clone(),
+        None => gen(i),
+    };
+    let full: [Gen<N>; 4] = [known(0), known(1), known(2), known(3)];
     let mut any = Any::default();
     let mut gens: Vec<Gen<N>> = Vec::with_capacity(12);
     let mut qd: Vec<N> = Vec::with_capacity(12);
-    let all: Vec<Gen<N>> = (0..4).map(gen).collect();
-    // Vertices in the closed slab first: a vertex inside settles most tets at once.
+    // The other vertices in the closed slab.
     for i in 0..4 {
         if side[i][0] >= 0 && side[i][1] <= 0 {
-            let qi = q(&all[i], &all[i]);
+            let qi = match all[i].take() {
+                Some((_, qi)) => qi,
+                None => q(&full[i], &full[i]),
+            };
             if any.term(qi.sign().map(|s| s < 0)) {
                 return Some(true);
             }
-            gens.push(all[i].clone());
+            gens.push(full[i].clone());
             qd.push(qi);
         }
     }
@@ -184,9 +245,9 @@ pub(crate) fn decide<N: Arith>(
             let abs = |x: &N, s: i32| if s > 0 { x.clone() } else { x.neg() };
             let g = combine(
                 &abs(&u[j][level], sj),
-                &all[i],
+                &full[i],
                 &abs(&u[i][level], si),
-                &all[j],
+                &full[j],
             );
             let qg = q(&g, &g);
             if any.term(qg.sign().map(|s| s < 0)) {
@@ -197,10 +258,17 @@ pub(crate) fn decide<N: Arith>(
         }
     }
     let m = gens.len();
+    // `facing[j]`: Q(y_j, y_l) >= 0 for every l, known.
+    let mut facing: Vec<bool> = qd.iter().map(|x| x.sign() == Some(1)).collect();
     for k in 0..m {
         for l in k + 1..m {
             let qkl = q(&gens[k], &gens[l]);
-            let t = match qkl.sign() {
+            let sk = qkl.sign();
+            if sk.is_none_or(|s| s < 0) {
+                facing[k] = false;
+                facing[l] = false;
+            }
+            let t = match sk {
                 Some(s) if s >= 0 => Some(false),
                 s => {
                     let disc = qkl.mul(&qkl).sub(&qd[k].mul(&qd[l])).sign();
@@ -215,6 +283,14 @@ pub(crate) fn decide<N: Arith>(
                 return Some(true);
             }
         }
+    }
+    // No vertex and no pair meets the cone. If some c_j != 0 (Q(y_j) > 0) has c_j . c_l >= 0
+    // for every l (which Q(y_j, y_l) >= 0 implies, rho being >= 0), the axis could only lie in
+    // K on the line through it across c_j, i.e. in the cone of two vectors, which the pairs
+    // ruled out: no triple is needed (this also spares exact arithmetic the exact zeros of
+    // triples collinear across the axis, common in meshes aligned with a body).
+    if !any.unknown && facing.iter().any(|&f| f) {
+        return Some(false);
     }
     // The axis inside K: (0, 1) = x_i y_i + x_j y_j + x_k y_k with x >= 0, by Cramer's rule.
     // `cr` is `a . (c_k x c_l)`: L times the 2-D cross product across the axis.
@@ -293,8 +369,22 @@ mod tests {
         x
     }
 
+    /// Each stage that decides must agree with exact arithmetic.
+    pub(super) fn stages_agree(p: &[[f64; 3]; 4], s: &[f64; 3], e: &[f64; 3], r0: f64, r1: f64) {
+        let exact = decide_exact(p, s, e, r0, r1);
+        let f = fast(p, s, e, r0, r1);
+        let i = decide(Interval::diff, p, s, e, r0, r1);
+        for (name, got) in [("floats", f), ("intervals", i)] {
+            assert!(
+                got.is_none_or(|g| g == exact),
+                "{name} decided {got:?}, exact {exact}: {p:?} {s:?} {e:?} {r0} {r1}"
+            );
+        }
+    }
+
     /// The filtered test, checked against exact arithmetic alone.
     fn both(p: &[[f64; 3]; 4], s: &[f64; 3], e: &[f64; 3], r0: f64, r1: f64) -> bool {
+        stages_agree(p, s, e, r0, r1);
         let f = tet_meets_frustum(p, s, e, r0, r1);
         assert_eq!(
             f,
@@ -687,6 +777,7 @@ mod proptests {
             prop_assume!(dot(&ax, &ax) > 0.01);
             let got = tet_meets_frustum(&p, &s, &e, r0, r1);
             prop_assert_eq!(got, decide_exact(&p, &s, &e, r0, r1));
+            super::tests::stages_agree(&p, &s, &e, r0, r1);
             let mv = |x: &[f64; 3]| x.map(|v| v + OFFSET);
             prop_assert_eq!(got, tet_meets_frustum(&p.map(|x| mv(&x)), &mv(&s), &mv(&e), r0, r1));
             let want = reference(&p, &s, &e, r0, r1);
@@ -708,6 +799,7 @@ mod proptests {
             prop_assume!(!flat(&p) && s != e && (r0 > 0.0 || r1 > 0.0));
             let got = tet_meets_frustum(&p, &s, &e, r0, r1);
             prop_assert_eq!(got, decide_exact(&p, &s, &e, r0, r1));
+            super::tests::stages_agree(&p, &s, &e, r0, r1);
             if let Some(want) = reference(&p, &s, &e, r0, r1) {
                 prop_assert_eq!(got, want, "tet {:?} body {:?} {:?} {} {}", p, s, e, r0, r1);
             }

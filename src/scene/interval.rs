@@ -29,20 +29,17 @@ impl Interval {
     }
 
     #[cfg(test)]
+    fn of(x: f64) -> Interval {
+        Interval::diff(x, 0.0)
+    }
+
+    #[cfg(test)]
     pub fn contains(&self, x: f64) -> bool {
         self.lo <= x && x <= self.hi
     }
 }
 
 impl Arith for Interval {
-    fn of(x: f64) -> Interval {
-        if x.is_finite() {
-            Interval { lo: x, hi: x }
-        } else {
-            UNKNOWN
-        }
-    }
-
     /// `x - y` of two floats: the rounding error is known exactly (Knuth's two-sum), so an exact
     /// difference (the common case for nearby coordinates) stays a point.
     fn diff(x: f64, y: f64) -> Interval {

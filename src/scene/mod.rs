@@ -7,6 +7,7 @@
 
 pub mod classify;
 mod exact;
+mod fb;
 mod file;
 pub mod frustum;
 mod interval;
