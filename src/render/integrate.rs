@@ -374,8 +374,8 @@ impl Acc {
     fn add(&mut self, c0: [f64; 3], t0: f64, c1: [f64; 3], t1: f64, l: f64) {
         if l > 0.0 && self.trans >= 1e-30 {
             let (c, tr) = linear_piece(c0, t0, c1, t1, l);
-            for k in 0..3 {
-                self.color[k] += self.trans * c[k];
+            for (a, ck) in self.color.iter_mut().zip(c) {
+                *a += self.trans * ck;
             }
             self.trans *= tr;
         }
