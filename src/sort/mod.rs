@@ -265,7 +265,13 @@ impl<'m> Sorter<'m> {
                 let (mut post, mut pre) = (0u8, 0u32);
                 let mask = mask_of(t);
                 if mask != 0 {
-                    let p = mesh.tets[t].map(|v| mesh.points[v as usize]);
+                    let (tet, pts) = (&mesh.tets[t], &mesh.points);
+                    let p = [
+                        pts[tet[0] as usize],
+                        pts[tet[1] as usize],
+                        pts[tet[2] as usize],
+                        pts[tet[3] as usize],
+                    ];
                     let s = side::tet_sides(view, &p, mask, bound);
                     let mut bits = mask;
                     while bits != 0 {
@@ -323,7 +329,10 @@ impl<'m> Sorter<'m> {
             }
             (off, extra.iter().map(|e| e.1).collect::<Vec<u32>>())
         };
-        let layer: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(peel::UNSET)).collect();
+        let layer: Vec<AtomicU32> = (0..n)
+            .into_par_iter()
+            .map(|_| AtomicU32::new(peel::UNSET))
+            .collect();
         let g = peel::Graph {
             neighbors: nbr,
             post: &post,
@@ -353,32 +362,21 @@ impl<'m> Sorter<'m> {
         if !ftb {
             leaf_order.reverse();
         }
-        // Within a leaf: by layer, then by tet id (deterministic), by counting sort.
-        let per_leaf: Vec<Vec<u32>> = leaf_order
-            .par_iter()
-            .map(|&l| {
-                let tets = &leaves[l as usize];
-                let nl = results[l as usize].layers as usize;
-                let mut start = vec![0usize; nl + 1];
-                for &t in tets {
-                    start[layer[t as usize] as usize + 1] += 1;
-                }
-                for i in 0..nl {
-                    start[i + 1] += start[i];
-                }
-                let mut out = vec![0u32; tets.len()];
-                for &t in tets {
-                    let s = &mut start[layer[t as usize] as usize];
-                    out[*s] = t;
-                    *s += 1;
-                }
-                out
-            })
-            .collect();
-        let mut order = Vec::with_capacity(n);
-        for v in per_leaf {
-            order.extend_from_slice(&v);
+        // Within a leaf: by layer, then by tet id (deterministic), by counting sort, every leaf
+        // into its own range of the order.
+        let order: Vec<AtomicU32> = (0..n).into_par_iter().map(|_| AtomicU32::new(0)).collect();
+        let mut at = Vec::with_capacity(leaf_order.len());
+        let mut acc = 0usize;
+        for &l in &leaf_order {
+            at.push(acc);
+            acc += leaves[l as usize].len();
         }
+        leaf_order.par_iter().zip(&at).for_each(|(&l, &start)| {
+            let tets = &leaves[l as usize];
+            let nl = results[l as usize].layers as usize;
+            by_layer(tets, &layer, nl, &order[start..start + tets.len()]);
+        });
+        let order: Vec<u32> = order.into_iter().map(|a| a.into_inner()).collect();
         let mut stats = SortStats {
             leaves: leaves.len(),
             face_constraints,
@@ -402,6 +400,43 @@ impl<'m> Sorter<'m> {
             stats,
         }
     }
+}
+
+/// Writes `tets` (ascending ids, layers below `nl`) into `out` by layer, then by id: a counting
+/// sort, in parallel chunks for a big leaf. Each chunk's share of a layer goes after the earlier
+/// chunks' share, so the result does not depend on the number of chunks.
+fn by_layer(tets: &[u32], layer: &[u32], nl: usize, out: &[AtomicU32]) {
+    let parts = if tets.len() >= 1 << 16 {
+        rayon::current_num_threads()
+    } else {
+        1
+    };
+    let chunks: Vec<&[u32]> = tets.chunks(tets.len().div_ceil(parts).max(1)).collect();
+    let hist: Vec<Vec<usize>> = chunks
+        .par_iter()
+        .map(|c| {
+            let mut h = vec![0usize; nl];
+            for &t in *c {
+                h[layer[t as usize] as usize] += 1;
+            }
+            h
+        })
+        .collect();
+    let mut starts = vec![vec![0usize; nl]; chunks.len()];
+    let mut acc = 0usize;
+    for l in 0..nl {
+        for (s, h) in starts.iter_mut().zip(&hist) {
+            s[l] = acc;
+            acc += h[l];
+        }
+    }
+    chunks.par_iter().zip(starts).for_each(|(c, mut start)| {
+        for &t in *c {
+            let s = &mut start[layer[t as usize] as usize];
+            out[*s].store(t, Relaxed);
+            *s += 1;
+        }
+    });
 }
 
 /// Leaf of each tet: the mesh's `leaf_id` cell array when it names valid leaves, otherwise the

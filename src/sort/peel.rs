@@ -13,7 +13,7 @@ pub const UNSET: u32 = u32::MAX;
 const RELEASED: u32 = 1 << 30;
 /// Frontiers at least this large are relaxed in parallel (smaller ones cost more in atomics and
 /// shared cache lines than a second core gains).
-const PAR_FRONTIER: usize = 16384;
+const PAR_FRONTIER: usize = 1024;
 
 /// How many frontier tets ahead the serial loop prefetches (twice this for a tet's neighbours).
 const AHEAD: usize = 16;
@@ -106,6 +106,7 @@ fn peel_with(
             .filter(|&t| indeg[t as usize].load(Relaxed) == 0)
             .collect()
     };
+    let mut next: Vec<u32> = Vec::new();
     let mut placed = 0usize;
     let mut current = 0u32;
     let mut in_cycle: HashMap<u32, ()> = HashMap::new();
@@ -128,58 +129,72 @@ fn peel_with(
             }
         }
         placed += frontier.len();
-        let relax = |t: u32, out: &mut Vec<u32>| {
-            g.for_each_successor(t, |n| {
-                if indeg[n as usize].fetch_sub(1, Relaxed) == 1 {
-                    out.push(n);
-                }
-            });
-        };
-        frontier = if frontier.len() >= par_frontier {
-            frontier
-                .par_iter()
-                .for_each(|&t| layer[t as usize].store(current, Relaxed));
-            frontier
-                .par_chunks(256)
-                .flat_map_iter(|ch| {
+        let threads = rayon::current_num_threads();
+        if frontier.len() >= par_frontier && threads > 1 {
+            // Counters shared between threads: locked decrements. A few long chunks per thread,
+            // so the prefetching inside each chunk runs ahead of it.
+            let chunk = frontier.len().div_ceil(2 * threads).max(256);
+            let parts: Vec<Vec<u32>> = frontier
+                .par_chunks(chunk)
+                .map(|ch| {
                     let mut out = Vec::with_capacity(ch.len());
-                    for &t in ch {
-                        relax(t, &mut out);
-                    }
+                    relax(g, ch, indeg, layer, current, &mut out, |c| {
+                        c.fetch_sub(1, Relaxed).wrapping_sub(1)
+                    });
                     out
                 })
-                .collect()
-        } else {
-            // One thread owns this leaf's counters here (leaves never share a tet or an edge),
-            // so plain loads and stores do: no locked read-modify-write, no cache-line traffic.
-            let mut out = Vec::with_capacity(frontier.len());
-            for (k, &t) in frontier.iter().enumerate() {
-                // The loop is a chain of cache misses (a tet's neighbours, then their counters):
-                // ask for them a few tets ahead so they overlap.
-                if let Some(&u) = frontier.get(k + 2 * AHEAD) {
-                    prefetch(&g.neighbors[u as usize]);
-                    prefetch(&g.post[u as usize]);
-                    prefetch(&layer[u as usize]);
-                }
-                if let Some(&u) = frontier.get(k + AHEAD) {
-                    g.for_each_successor(u, |n| prefetch(&indeg[n as usize]));
-                }
-                layer[t as usize].store(current, Relaxed);
-                g.for_each_successor(t, |n| {
-                    let c = &indeg[n as usize];
-                    let v = c.load(Relaxed).wrapping_sub(1);
-                    c.store(v, Relaxed);
-                    if v == 0 {
-                        out.push(n);
-                    }
-                });
+                .collect();
+            next.clear();
+            for p in parts {
+                next.extend_from_slice(&p);
             }
-            out
-        };
+        } else {
+            // One thread owns these counters (leaves never share a tet or an edge), so plain
+            // loads and stores do: no locked read-modify-write, no cache-line traffic.
+            next.clear();
+            relax(g, &frontier, indeg, layer, current, &mut next, |c| {
+                let v = c.load(Relaxed).wrapping_sub(1);
+                c.store(v, Relaxed);
+                v
+            });
+        }
+        std::mem::swap(&mut frontier, &mut next);
         current += 1;
     }
     res.layers = current;
     res
+}
+
+/// Places `frontier` in layer `current` and takes one from each successor's counter with
+/// `decrement` (which returns the new count), collecting in `out` the tets that reach zero.
+/// The loop is a chain of cache misses (a tet's neighbours, then their counters): it asks for
+/// them a few tets ahead so they overlap.
+#[inline]
+fn relax(
+    g: &Graph,
+    frontier: &[u32],
+    indeg: &[AtomicU32],
+    layer: &[AtomicU32],
+    current: u32,
+    out: &mut Vec<u32>,
+    decrement: impl Fn(&AtomicU32) -> u32,
+) {
+    for (k, &t) in frontier.iter().enumerate() {
+        if let Some(&u) = frontier.get(k + 2 * AHEAD) {
+            prefetch(&g.neighbors[u as usize]);
+            prefetch(&g.post[u as usize]);
+            prefetch(&layer[u as usize]);
+        }
+        if let Some(&u) = frontier.get(k + AHEAD) {
+            g.for_each_successor(u, |n| prefetch(&indeg[n as usize]));
+        }
+        layer[t as usize].store(current, Relaxed);
+        g.for_each_successor(t, |n| {
+            if decrement(&indeg[n as usize]) == 0 {
+                out.push(n);
+            }
+        });
+    }
 }
 
 /// The remaining tets form a graph where every tet has a predecessor: find its strongly connected

@@ -48,7 +48,9 @@ pub fn eye_error_bound(bounds: &Aabb, e: &[f64; 3]) -> f64 {
 /// tet) has the sign of the exact one, and the rest go to the exact `orient3d`.
 #[inline]
 pub fn tet_eye_sides(p: &[[f64; 3]; 4], e: &[f64; 3], bound: f64) -> [i8; 4] {
-    let d: [[f64; 3]; 4] = p.map(|q| [q[0] - e[0], q[1] - e[1], q[2] - e[2]]);
+    // Written out: `array::map` here leaves copies through the stack in the hot loop.
+    let dif = |q: &[f64; 3]| [q[0] - e[0], q[1] - e[1], q[2] - e[2]];
+    let d = [dif(&p[0]), dif(&p[1]), dif(&p[2]), dif(&p[3])];
     // minor(a, b) = dx_a dy_b - dx_b dy_a.
     let m = |a: usize, b: usize| d[a][0] * d[b][1] - d[b][0] * d[a][1];
     let (m01, m02, m03, m12, m13, m23) = (m(0, 1), m(0, 2), m(0, 3), m(1, 2), m(1, 3), m(2, 3));
