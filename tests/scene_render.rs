@@ -540,7 +540,8 @@ fn cli_empty_scene_is_no_scene_and_bodies_report_their_codes() {
     assert!(!ok);
     assert!(err.contains("bad.toml") && err.contains("line 5"), "{err}");
     assert!(!out.exists());
-    // A body's transfer function that cannot be built names the body's line.
+    // A body's transfer function that cannot be built names the offending key's line inside
+    // [body.transfer] (line 9), not the [[body]] line (3).
     std::fs::write(
         &bad,
         "# a scene\n\n[[body]]\nshape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.3\naction = \"transfer\"\n[body.transfer]\ncolormap = \"no-such-map\"\n",
@@ -556,7 +557,7 @@ fn cli_empty_scene_is_no_scene_and_bodies_report_their_codes() {
     ]);
     assert!(!ok);
     assert!(
-        err.contains("bad.toml: line 3") && err.contains("no-such-map"),
+        err.contains("bad.toml: line 9") && err.contains("no-such-map"),
         "{err}"
     );
     assert!(!out.exists());
