@@ -412,41 +412,6 @@ struct TileRegions {
     start_all: Option<u8>,
 }
 
-#[inline(always)]
-fn shade(s: &Shader, sf: f32, sb: f32, l: f32) -> [f32; 4] {
-    match s {
-        Shader::Pre(tab) => tab.lookup(sf, sb, l),
-        Shader::Average(tf) => tf.average(sf, sb, l),
-        Shader::Linear(tf) => tf.linear(sf, sb, l),
-    }
-}
-
-fn raster_plain(
-    t: &TetSetup,
-    parallel: bool,
-    tile: (i64, i64, i64, i64),
-    buf: &mut [[f32; 4]],
-    stretch: &[f32],
-    width: usize,
-    shader: &Shader,
-) -> (u64, usize) {
-    match shader {
-        Shader::Pre(tab) => pt::raster(t, parallel, tile, buf, stretch, width, tab),
-        Shader::Average(tf) => pt::raster(
-            t,
-            parallel,
-            tile,
-            buf,
-            stretch,
-            width,
-            &pt::AverageShade(tf),
-        ),
-        Shader::Linear(tf) => {
-            pt::raster(t, parallel, tile, buf, stretch, width, &pt::LinearShade(tf))
-        }
-    }
-}
-
 /// Counts of the split rasterizer.
 #[derive(Clone, Copy, Debug, Default)]
 struct SplitStats {
@@ -528,7 +493,7 @@ fn raster_split(
                 }
                 let sa = (sref + a * h).clamp(t.smin, t.smax);
                 let sb = (sref + b * h).clamp(t.smin, t.smax);
-                let c = shade(shaders[k as usize], sa, sb, (b - a) * stl);
+                let c = shaders[k as usize].shade(sa, sb, (b - a) * stl);
                 let kk = 1.0 - slot[3];
                 slot[0] += kk * c[0];
                 slot[1] += kk * c[1];
@@ -577,10 +542,7 @@ pub fn pt_render(
 ) -> (Image, pt::PtStats, RegionReport) {
     let proj = pt::project_points(view, points);
     let (w, h) = (view.width as usize, view.height as usize);
-    let stretch: Vec<f32> = (0..w * h)
-        .into_par_iter()
-        .map(|i| view.stretch((i % w) as f64 + 0.5, (i / w) as f64 + 0.5) as f32)
-        .collect();
+    let stretch = pt::stretch_map(view);
     let mut sv = SceneView::new(look.scene, *cam, view.width, view.height);
     sv.culling = look.culling;
     let mesh_box = Aabb::of_points(points.iter());
@@ -591,7 +553,6 @@ pub fn pt_render(
     let ntiles = ntx * nty;
 
     // Crossings per tile, and the codes present where the mesh is.
-    type TileOut = (Option<TileRegions>, [bool; 256], u64);
     let regions: Vec<TileOut> = (0..ntiles)
         .into_par_iter()
         .map(|ti| {
@@ -705,136 +666,103 @@ pub fn pt_render(
     let mut rep = report(look, &seen, &merged, tables);
     rep.pixels_with_crossings = traced;
 
-    // Bin the ordered tets per tile (chunks in parallel, each keeping the order).
-    const CHUNK: usize = 1 << 15;
-    let bins: Vec<Vec<Vec<u32>>> = order
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ntiles];
-            for &t in chunk {
-                let p = tets[t as usize].map(|v| &proj[v as usize]);
-                if p.iter().any(|q| !q.ok) {
-                    continue;
-                }
-                let xmin = p.iter().map(|q| q.fx).min().unwrap_or(0);
-                let xmax = p.iter().map(|q| q.fx).max().unwrap_or(0);
-                let ymin = p.iter().map(|q| q.fy).min().unwrap_or(0);
-                let ymax = p.iter().map(|q| q.fy).max().unwrap_or(0);
-                let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
-                let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
-                let (x0, x1) = (lo(xmin).max(0), hi(xmax).min(w as i64 - 1));
-                let (y0, y1) = (lo(ymin).max(0), hi(ymax).min(h as i64 - 1));
-                if x0 > x1 || y0 > y1 {
-                    continue;
-                }
-                for ty in (y0 as usize / TILE)..=(y1 as usize / TILE) {
-                    for tx in (x0 as usize / TILE)..=(x1 as usize / TILE) {
-                        lists[ty * ntx + tx].push(t);
-                    }
-                }
-            }
-            lists
-        })
-        .collect();
-
-    let parallel = view.parallel;
-    let tiles: Vec<(Vec<[f32; 4]>, pt::PtStats, SplitStats)> = (0..ntiles)
-        .into_par_iter()
-        .map(|ti| {
-            let (tx, ty) = (ti % ntx, ti / ntx);
-            let (px0, py0) = ((tx * TILE) as i64, (ty * TILE) as i64);
-            let (px1, py1) = (
-                ((tx + 1) * TILE).min(w) as i64 - 1,
-                ((ty + 1) * TILE).min(h) as i64 - 1,
-            );
-            let npix = ((px1 - px0 + 1) * (py1 - py0 + 1)) as usize;
-            let mut buf = vec![[0f32; 4]; npix];
-            let mut stats = pt::PtStats::default();
-            let mut sst = SplitStats::default();
-            let mut opaque = 0usize;
-            let tile = (px0, py0, px1, py1);
-            let reg = regions[ti].0.as_ref();
-            'outer: for chunk in &bins {
-                for &t in &chunk[ti] {
-                    let tet = &tets[t as usize];
-                    let pv = tet.map(|v| &proj[v as usize]);
-                    // One code for the whole tet when its depths miss the tile's crossings.
-                    let uniform = match reg {
-                        None => Some(0u8),
-                        Some(r) => {
-                            let zmin = pv.iter().map(|q| q.view[2]).fold(f64::INFINITY, f64::min);
-                            let zmax = pv
-                                .iter()
-                                .map(|q| q.view[2])
-                                .fold(f64::NEG_INFINITY, f64::max);
-                            if zmin > r.zhi {
-                                Some(0)
-                            } else if zmax < r.zlo {
-                                r.start_all
-                            } else {
-                                None
-                            }
-                        }
-                    };
-                    if let Some(c) = uniform {
-                        if slots[c as usize] == CUT {
-                            continue;
-                        }
-                    }
-                    let s = field.at(t as usize, tet);
-                    let Some(setup) = pt::setup_tet(view, pv, s, &mut stats) else {
-                        continue;
-                    };
-                    match (uniform, reg) {
-                        (Some(c), _) => {
-                            let sh = shader_list[slots[c as usize] as usize];
-                            let (f, o) =
-                                raster_plain(&setup, parallel, tile, &mut buf, &stretch, w, sh);
-                            stats.fragments += f;
-                            opaque += o;
-                        }
-                        // A tile without crossings is always uniform (code 0).
-                        (None, None) => {}
-                        (None, Some(r)) => {
-                            opaque += raster_split(
-                                &setup,
-                                pv[0].view[2],
-                                parallel,
-                                tile,
-                                &mut buf,
-                                &stretch,
-                                w,
-                                r,
-                                &slots,
-                                &shader_list,
-                                &mut sst,
-                            );
-                        }
-                    }
-                    if opaque == npix {
-                        break 'outer;
-                    }
-                }
-            }
-            (buf, stats, sst)
-        })
-        .collect();
-    let mut img = Image::new(view.width, view.height);
-    let mut stats = pt::PtStats::default();
-    for (ti, (buf, st, sst)) in tiles.iter().enumerate() {
-        stats.fragments += st.fragments + sst.fragments;
+    // The plain path's tiles: tets set up once and binned in the global order; each tile then
+    // draws a tet with one code where its depths miss the tile's crossings, else split per pixel.
+    let frame = pt::Frame {
+        view,
+        tets,
+        field,
+        proj: &proj,
+        stretch: &stretch,
+    };
+    let drawer = SceneDraw {
+        frame: &frame,
+        regions: &regions,
+        slots: &slots,
+        shaders: &shader_list,
+    };
+    let (img, mut stats, _, tiles) = pt::render_tiles(&frame, order, &drawer);
+    for sst in &tiles {
+        stats.fragments += sst.fragments;
         rep.split_fragments += sst.split;
         rep.pieces += sst.pieces;
-        let (tx, ty) = (ti % ntx, ti / ntx);
-        let (px0, py0) = (tx * TILE, ty * TILE);
-        let tw = TILE.min(w - px0);
-        for (r, row) in buf.chunks(tw).enumerate() {
-            let y = py0 + r;
-            img.pixels[y * w + px0..y * w + px0 + tw].copy_from_slice(row);
-        }
     }
     (img, stats, rep)
 }
+
+/// Body crossings per tile, the codes the tile's pixels see, pixels traced.
+type TileOut = (Option<TileRegions>, [bool; 256], u64);
+
+/// How a scene's tiles draw a tet.
+struct SceneDraw<'a> {
+    frame: &'a pt::Frame<'a>,
+    regions: &'a [TileOut],
+    /// Region code -> index into `shaders`, or [`CUT`].
+    slots: &'a [u16; 256],
+    shaders: &'a [&'a Shader],
+}
+
+impl pt::TileDraw for SceneDraw<'_> {
+    type State = SplitStats;
+
+    #[inline(always)]
+    fn draw(
+        &self,
+        sst: &mut SplitStats,
+        ti: usize,
+        p: &pt::Prepared,
+        tile: pt::Tile,
+        buf: &mut [[f32; 4]],
+    ) -> (u64, usize) {
+        let f = self.frame;
+        let pv = f.tets[p.t as usize].map(|v| &f.proj[v as usize]);
+        let reg = self.regions[ti].0.as_ref();
+        // One code for the whole tet when its depths miss the tile's crossings.
+        let uniform = match reg {
+            None => Some(0u8),
+            Some(r) => {
+                let zmin = pv.iter().map(|q| q.view[2]).fold(f64::INFINITY, f64::min);
+                let zmax = pv
+                    .iter()
+                    .map(|q| q.view[2])
+                    .fold(f64::NEG_INFINITY, f64::max);
+                if zmin > r.zhi {
+                    Some(0)
+                } else if zmax < r.zlo {
+                    r.start_all
+                } else {
+                    None
+                }
+            }
+        };
+        match (uniform, reg, &p.kind) {
+            (Some(c), _, kind) => match self.shaders.get(self.slots[c as usize] as usize) {
+                Some(sh) => f.draw(kind, tile, buf, sh),
+                None => (0, 0),
+            },
+            (None, Some(r), pt::PrepKind::Tet(setup)) => {
+                let o = raster_split(
+                    setup,
+                    pv[0].view[2],
+                    f.view.parallel,
+                    tile,
+                    buf,
+                    f.stretch,
+                    f.view.width as usize,
+                    r,
+                    self.slots,
+                    self.shaders,
+                    sst,
+                );
+                (0, o)
+            }
+            // A tile without crossings is always uniform (code 0); a tet on the clipping path
+            // (a vertex behind the eye) is not split at crossings and is left out there.
+            _ => (0, 0),
+        }
+    }
+}
+
 /// The depth range of the mesh's box along the view direction, and how far parallel rays start
 /// behind the camera plane so they begin behind everything PT draws (it draws behind the camera
 /// plane too); 0 in perspective or when the box is in front.

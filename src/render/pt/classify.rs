@@ -1,0 +1,65 @@
+//! Shirley-Tuchman projection classes from the exact fixed-point signed areas of the four faces.
+
+use super::{Projected, PtStats};
+
+/// Shirley-Tuchman projection class of a tet.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProjClass {
+    /// 3 + 1: one vertex projects inside the triangle of the other three.
+    One,
+    /// 2 + 2: two edges cross at the thick point; the silhouette is a quadrilateral.
+    Two,
+    /// 2 + 1 + one flat face: a vertex on the opposite edge.
+    Three,
+    /// 1 + 1 + two flat faces: two vertices coincide.
+    Four,
+    /// Zero projected area.
+    Flat,
+}
+
+/// Face `i` is opposite vertex `i`; vertex orders make the four faces consistently oriented.
+pub const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+#[inline]
+pub(crate) fn orient2(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> i64 {
+    (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+}
+
+/// Projected signed areas of the four faces (twice the area, 1/256-pixel units squared).
+#[inline]
+pub fn face_areas(p: &[(i64, i64); 4]) -> [i64; 4] {
+    FACES.map(|f| orient2(p[f[0]], p[f[1]], p[f[2]]))
+}
+
+pub fn classify(d: &[i64; 4]) -> ProjClass {
+    let pos = d.iter().filter(|&&v| v > 0).count();
+    let neg = d.iter().filter(|&&v| v < 0).count();
+    match (pos, neg) {
+        (3, 1) | (1, 3) => ProjClass::One,
+        (2, 2) => ProjClass::Two,
+        (2, 1) | (1, 2) => ProjClass::Three,
+        (1, 1) => ProjClass::Four,
+        _ => ProjClass::Flat,
+    }
+}
+
+pub(crate) fn class_index(c: ProjClass) -> usize {
+    match c {
+        ProjClass::One => 0,
+        ProjClass::Two => 1,
+        ProjClass::Three => 2,
+        ProjClass::Four => 3,
+        ProjClass::Flat => 4,
+    }
+}
+
+/// Counts tet `p`'s projection class (or that it takes the clipping path), once per tet.
+#[inline]
+pub(crate) fn count_class(st: &mut PtStats, p: &[&Projected; 4]) {
+    if p.iter().any(|q| !q.ok) {
+        st.clipped += 1;
+    } else {
+        let c = classify(&face_areas(&p.map(|q| (q.fx, q.fy))));
+        st.class[class_index(c)] += 1;
+    }
+}

@@ -1,0 +1,203 @@
+//! The per-pixel path for tets the rasterizer cannot take (a vertex behind the eye or beyond the guard band): rays clipped against the four face planes.
+
+// Negated comparisons are deliberate: they also catch NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::shade::Shader;
+use super::tiles::Tile;
+use super::{PixelBox, Projected, View, FACES, OPAQUE};
+use crate::geom;
+
+/// The per-pixel path for tets the rasterizer cannot take: a vertex behind the eye (the eye
+/// inside or beside the tet, in perspective) or projected beyond the guard band. Each pixel's
+/// ray is clipped against the tet's four face planes in view coordinates, and, in perspective,
+/// starts at the eye, as the ray-cast reference's rays do.
+pub(crate) struct ClipSetup {
+    /// Inside where `n . P <= c`, per face.
+    planes: [([f64; 3], f64); 4],
+    /// Scalar at vertex 0 and its gradient, in view coordinates.
+    v0: [f64; 3],
+    s0: f64,
+    g: [f64; 3],
+    smin: f64,
+    smax: f64,
+}
+
+/// Depth below which a point counts as at the eye when bounding a clipped tet on screen.
+const CLIP_NEAR: f64 = 1e-9;
+
+impl ClipSetup {
+    pub(crate) fn new(pv: [&Projected; 4], s: [f64; 4]) -> Option<ClipSetup> {
+        let v = pv.map(|p| p.view);
+        let sub = |a: [f64; 3], b: [f64; 3]| geom::sub(&a, &b);
+        let cr = |a: [f64; 3], b: [f64; 3]| geom::cross(&a, &b);
+        let dt = |a: [f64; 3], b: [f64; 3]| geom::dot(&a, &b);
+        let e = [1, 2, 3].map(|k| sub(v[k], v[0]));
+        let det = dt(e[0], cr(e[1], e[2]));
+        if !(det != 0.0 && det.is_finite()) {
+            return None;
+        }
+        let mut planes = [([0.0; 3], 0.0); 4];
+        for (f, fv) in FACES.iter().enumerate() {
+            let a = v[fv[0]];
+            let mut n = cr(sub(v[fv[1]], a), sub(v[fv[2]], a));
+            if dt(n, sub(v[f], a)) > 0.0 {
+                n = [-n[0], -n[1], -n[2]];
+            }
+            planes[f] = (n, dt(n, a));
+        }
+        let ds = [1, 2, 3].map(|k| s[k] - s[0]);
+        let (c0, c1, c2) = (cr(e[1], e[2]), cr(e[2], e[0]), cr(e[0], e[1]));
+        let g = [0, 1, 2].map(|a| (ds[0] * c0[a] + ds[1] * c1[a] + ds[2] * c2[a]) / det);
+        Some(ClipSetup {
+            planes,
+            v0: v[0],
+            s0: s[0],
+            g,
+            smin: s.iter().copied().fold(f64::INFINITY, f64::min),
+            smax: s.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        })
+    }
+
+    /// (Sf, Sb, l) of the ray `A + z B` (z the view depth), from `zmin` on.
+    #[inline]
+    fn segment(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64, f64)> {
+        let dt = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+        let (mut z0, mut z1) = (zmin, f64::INFINITY);
+        for (n, c) in &self.planes {
+            let na = dt(*n, a);
+            let nb = dt(*n, b);
+            // n.A + z n.B <= c.
+            if nb > 0.0 {
+                z1 = z1.min((c - na) / nb);
+            } else if nb < 0.0 {
+                z0 = z0.max((c - na) / nb);
+            } else if na > *c {
+                return None;
+            }
+        }
+        if !(z1 > z0) || !z0.is_finite() || !z1.is_finite() {
+            return None;
+        }
+        let at = |z: f64| {
+            let p = [a[0] + z * b[0], a[1] + z * b[1], a[2] + z * b[2]];
+            (self.s0
+                + dt(
+                    self.g,
+                    [p[0] - self.v0[0], p[1] - self.v0[1], p[2] - self.v0[2]],
+                ))
+            .clamp(self.smin, self.smax)
+        };
+        Some((at(z0), at(z1), (z1 - z0) * dt(b, b).sqrt()))
+    }
+}
+
+/// Screen box of a tet with a vertex behind the eye or beyond the guard band: the box of its
+/// part in front of `CLIP_NEAR` (edges cut there), clamped to the image.
+pub(crate) fn clip_box(view: &View, p: &[&Projected; 4], w: usize, h: usize) -> Option<PixelBox> {
+    let near = if view.parallel {
+        f64::NEG_INFINITY
+    } else {
+        CLIP_NEAR
+    };
+    let mut pts: Vec<[f64; 3]> = Vec::with_capacity(8);
+    for i in 0..4 {
+        let a = p[i].view;
+        if a[2] >= near {
+            pts.push(a);
+        }
+        for q in &p[i + 1..] {
+            let b = q.view;
+            if (a[2] < near) != (b[2] < near) {
+                let t = (near - a[2]) / (b[2] - a[2]);
+                pts.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), near]);
+            }
+        }
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for v in &pts {
+        let (px, py) = view.screen(v);
+        if !(px.is_finite() && py.is_finite()) {
+            // Too close to the eye plane to place: the whole image.
+            (x0, x1, y0, y1) = (
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+            );
+            break;
+        }
+        x0 = x0.min(px);
+        x1 = x1.max(px);
+        y0 = y0.min(py);
+        y1 = y1.max(py);
+    }
+    if pts.is_empty() {
+        return None;
+    }
+    // Pixel centres i + 0.5 in [min, max], widened by a pixel against rounding.
+    let lo = |v: f64| (v - 1.5).ceil().clamp(0.0, 1e9) as i64;
+    let hi = |v: f64, n: usize| (v + 0.5).floor().clamp(-1.0, n as f64 - 1.0) as i64;
+    let b = (lo(x0), lo(y0), hi(x1, w), hi(y1, h));
+    (b.0 <= b.2 && b.1 <= b.3).then_some(b)
+}
+
+impl ClipSetup {
+    /// Draws the tet pixel by pixel over the part of its pixel box `b` inside `tile`, into `buf`
+    /// covering `tile` (front to back): fragments and newly opaque pixels.
+    pub(crate) fn draw(
+        &self,
+        view: &View,
+        b: PixelBox,
+        tile: Tile,
+        buf: &mut [[f32; 4]],
+        shader: &Shader,
+    ) -> (u64, usize) {
+        let (tx0, ty0, tx1, _) = tile;
+        let part = (
+            tile.0.max(b.0),
+            tile.1.max(b.1),
+            tile.2.min(b.2),
+            tile.3.min(b.3),
+        );
+        let tw = (tx1 - tx0 + 1) as usize;
+        let zmin = if view.parallel {
+            f64::NEG_INFINITY
+        } else {
+            0.0
+        };
+        let (mut frags, mut newly) = (0u64, 0usize);
+        for y in part.1..=part.3 {
+            for x in part.0..=part.2 {
+                let slot = &mut buf[(y - ty0) as usize * tw + (x - tx0) as usize];
+                if slot[3] >= OPAQUE {
+                    continue;
+                }
+                let (xs, ys) = view.screen_plane(x as f64 + 0.5, y as f64 + 0.5);
+                let (a, b) = if view.parallel {
+                    ([view.scale * xs, view.scale * ys, 0.0], [0.0, 0.0, 1.0])
+                } else {
+                    ([0.0; 3], [view.scale * xs, view.scale * ys, 1.0])
+                };
+                let Some((sf, sb, l)) = self.segment(a, b, zmin) else {
+                    continue;
+                };
+                let col = shader.shade(sf as f32, sb as f32, l as f32);
+                let k = 1.0 - slot[3];
+                for ch in 0..4 {
+                    slot[ch] += k * col[ch];
+                }
+                frags += 1;
+                if slot[3] >= OPAQUE {
+                    newly += 1;
+                }
+            }
+        }
+        (frags, newly)
+    }
+}

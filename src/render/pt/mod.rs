@@ -1,0 +1,165 @@
+//! Projected tetrahedra (Shirley and Tuchman 1990) on the CPU: classify each projected tet,
+//! rasterize its silhouette exactly in fixed point, and composite (Sf, Sb, l) fragments front to
+//! back in parallel screen tiles that each honour the global visibility order.
+//!
+//! Classification: the four faces' projected signed areas `D_i` (exact, on the 1/256-pixel grid)
+//! split into a positive and a negative group (they sum to zero). Class 1 is 3+1 (one vertex inside
+//! the triangle of the others), class 2 is 2+2 (two edges cross: the thick point), class 3 is
+//! 2+1+one zero (a vertex on an edge: a face seen edge-on), class 4 is 1+1+two zeros (two vertices
+//! coincide: an edge seen end-on); all-zero is a flat projection that covers no area. Each
+//! Shirley-Tuchman triangle pairs one front face with one back face, and the thick point is where
+//! the pairing changes; rather than cut triangles at a rounded thick point (which would leave
+//! hairline gaps or double hits inside a tet), each pixel of the exactly rasterized silhouette takes
+//! its entry depth from the farthest front-face plane and its exit from the nearest back-face
+//! plane, which is the same pairing with no rounding. Depth is carried as `1/z` (perspective) or
+//! `z` (parallel), both linear in screen space, and the scalar as a linear function plus depth
+//! times a linear function, so (Sf, Sb, l) are exact under perspective too.
+
+mod chunks;
+mod classify;
+mod clip;
+mod raster;
+mod setup;
+mod shade;
+#[cfg(test)]
+mod tests;
+mod tiles;
+mod view;
+
+pub use classify::{classify, face_areas, ProjClass, FACES};
+pub(crate) use setup::{fragment_span, TetSetup};
+pub use shade::Shader;
+pub(crate) use tiles::{render_tiles, Frame, PrepKind, Prepared, Tile, TileDraw};
+pub(crate) use view::stretch_map;
+pub use view::{project_points, Projected, View};
+
+use super::field::Field;
+use super::image::Image;
+use chunks::render_chunks;
+use tiles::PlainDraw;
+
+/// Tile side in pixels.
+pub const TILE: usize = 32;
+/// Sub-pixel bits of the fixed-point rasterizer.
+pub(crate) const SUB: i64 = 256;
+/// Vertices farther than this from the image (in fixed point) are not rasterized.
+const GUARD: f64 = (1i64 << 28) as f64;
+/// A pixel whose opacity passed this takes no more fragments (error below 1/2048).
+pub(crate) const OPAQUE: f32 = 1.0 - 1.0 / 2048.0;
+
+/// Pixel box (x0, y0, x1, y1), inclusive.
+type PixelBox = (i64, i64, i64, i64);
+
+/// Counts of what the rasterizer saw, for reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PtStats {
+    pub class: [u64; 5],
+    /// Tets with a vertex behind the eye (perspective) or outside the guard band, drawn by the
+    /// per-pixel clipping path instead of the rasterizer.
+    pub clipped: u64,
+    pub fragments: u64,
+}
+
+impl PtStats {
+    pub(crate) fn add(&mut self, o: &PtStats) {
+        for k in 0..5 {
+            self.class[k] += o.class[k];
+        }
+        self.clipped += o.clipped;
+        self.fragments += o.fragments;
+    }
+}
+
+/// Per-frame timings of the PT stages, in seconds.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PtTimes {
+    pub project: f64,
+    pub bin: f64,
+    pub raster: f64,
+}
+
+/// How the CPU's threads share a PT frame. Both give the same image up to float rounding, and
+/// each is deterministic under any thread count.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Schedule {
+    /// Screen tiles in parallel, each walking the tets binned to it in the global order; a tile
+    /// stops once all its pixels are opaque.
+    #[default]
+    Tiles,
+    /// The order cut into [`CHUNKS`] consecutive runs (a K-D tree's leaves are such runs; any
+    /// cut of a visibility order is one), each rendered in parallel into its own buffer over its
+    /// screen box, the buffers then composited front to back.
+    Chunks,
+}
+
+/// Runs of the order for [`Schedule::Chunks`]: fixed, so the image does not depend on the
+/// thread count.
+pub const CHUNKS: usize = 16;
+
+/// Renders tets in the given front-to-back order (any order is accepted; only a visibility order
+/// gives a correct image), with the default [`Schedule`].
+pub fn render(
+    view: &View,
+    points: &[[f64; 3]],
+    tets: &[[u32; 4]],
+    field: &Field,
+    order: &[u32],
+    shader: &Shader,
+) -> (Image, PtStats, PtTimes) {
+    render_with(
+        view,
+        points,
+        tets,
+        field,
+        order,
+        shader,
+        Schedule::default(),
+    )
+}
+
+/// [`render`] with a chosen [`Schedule`].
+pub fn render_with(
+    view: &View,
+    points: &[[f64; 3]],
+    tets: &[[u32; 4]],
+    field: &Field,
+    order: &[u32],
+    shader: &Shader,
+    schedule: Schedule,
+) -> (Image, PtStats, PtTimes) {
+    let t0 = std::time::Instant::now();
+    let proj = project_points(view, points);
+    let stretch = stretch_map(view);
+    let t1 = std::time::Instant::now();
+    let frame = Frame {
+        view,
+        tets,
+        field,
+        proj: &proj,
+        stretch: &stretch,
+    };
+    let (img, stats, bin_s) = match schedule {
+        Schedule::Tiles => {
+            let (img, stats, bin_s, _) = render_tiles(
+                &frame,
+                order,
+                &PlainDraw {
+                    frame: &frame,
+                    shader,
+                },
+            );
+            (img, stats, bin_s)
+        }
+        Schedule::Chunks => render_chunks(&frame, shader, order),
+    };
+    let t3 = std::time::Instant::now();
+    (
+        img,
+        stats,
+        PtTimes {
+            project: (t1 - t0).as_secs_f64(),
+            bin: bin_s,
+            raster: (t3 - t1).as_secs_f64() - bin_s,
+        },
+    )
+}

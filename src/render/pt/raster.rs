@@ -1,0 +1,215 @@
+//! The rasterizer: exact spans of each row of a tet's silhouette, (Sf, Sb, l) of a span's pixels in lanes, shaded and composited front to back.
+
+use super::setup::TetSetup;
+use super::shade::{Lanes, Shade, LANES};
+use super::tiles::Tile;
+use super::{OPAQUE, SUB};
+
+/// An edge prepared for [`span`]: its value at pixel `x` of row `y` is `ea x + k0 + k1 y`.
+#[derive(Clone, Copy)]
+pub(crate) struct SpanEdge {
+    ea: i64,
+    k0: i64,
+    k1: i64,
+    /// `1 / ea` for the floating-point estimate of the bound.
+    inv: f64,
+}
+
+/// The silhouette's edges prepared for [`span`]: `n` of them.
+pub(crate) struct SpanEdges {
+    e: [SpanEdge; 4],
+    n: usize,
+}
+
+impl SpanEdges {
+    #[inline(always)]
+    pub(crate) fn new(t: &TetSetup) -> SpanEdges {
+        let e = t.edges().map(|e| SpanEdge {
+            ea: e.a * SUB,
+            k0: e.a * (SUB / 2) + e.b * (SUB / 2) + e.c + e.bias,
+            k1: e.b * SUB,
+            inv: if e.a != 0 {
+                1.0 / (e.a * SUB) as f64
+            } else {
+                0.0
+            },
+        });
+        SpanEdges {
+            e,
+            n: t.nedges as usize,
+        }
+    }
+
+    /// The run of pixels `x` in `[lo, hi]` of row `y` whose centres lie inside every edge. The
+    /// silhouette is convex, so the run is contiguous; each edge's bound comes from a
+    /// floating-point estimate corrected by the exact integer test, so the run is exactly the
+    /// pixels the per-pixel edge test takes.
+    #[inline(always)]
+    pub(crate) fn span(&self, y: i64, lo: i64, hi: i64) -> Option<(i64, i64)> {
+        let (mut a, mut b) = (lo, hi);
+        for e in &self.e[..self.n] {
+            let (ea, eb) = (e.ea, e.k0 + e.k1 * y);
+            // The estimate truncates and saturates; the integer loops make the bound exact.
+            let est = || ((-(eb as f64) * e.inv) as i64).clamp(lo - 1, hi + 1);
+            if ea > 0 {
+                let mut x = est();
+                while x > a && ea * (x - 1) + eb >= 0 {
+                    x -= 1;
+                }
+                while x <= b && ea * x + eb < 0 {
+                    x += 1;
+                }
+                a = a.max(x);
+            } else if ea < 0 {
+                let mut x = est();
+                while x < b && ea * (x + 1) + eb >= 0 {
+                    x += 1;
+                }
+                while x >= a && ea * x + eb < 0 {
+                    x -= 1;
+                }
+                b = b.min(x);
+            } else if eb < 0 {
+                return None;
+            }
+            if a > b {
+                return None;
+            }
+        }
+        Some((a, b))
+    }
+}
+
+/// One row's depth and scalar planes with the row's offset folded in: `[value at dx = 0, slope]`.
+pub(crate) struct RowPlanes {
+    pub(crate) front: [[f32; 2]; 3],
+    pub(crate) back: [[f32; 2]; 3],
+    pub(crate) sref: [f32; 2],
+    pub(crate) h: [f32; 2],
+}
+
+impl RowPlanes {
+    #[inline(always)]
+    pub(crate) fn new(t: &TetSetup, dy: f32) -> RowPlanes {
+        let r = |p: &[f32; 3]| [p[0] + p[2] * dy, p[1]];
+        RowPlanes {
+            front: [r(&t.front[0]), r(&t.front[1]), r(&t.front[2])],
+            back: [r(&t.back[0]), r(&t.back[1]), r(&t.back[2])],
+            sref: r(&t.sref),
+            h: r(&t.h),
+        }
+    }
+}
+
+/// (Sf, Sb, l) of [`LANES`] consecutive pixels of a row from pixel `x` on: all three plane slots evaluated (the unused ones repeat a used plane), so no branch
+/// depends on the tet's class.
+#[inline(always)]
+fn fragments(
+    t: &TetSetup,
+    rp: &RowPlanes,
+    parallel: bool,
+    x: i64,
+    stretch: &[f32; LANES],
+) -> Lanes {
+    let mut dx = [0f32; LANES];
+    for (i, d) in dx.iter_mut().enumerate() {
+        *d = (x as i32 + i as i32) as f32 + 0.5 - t.ox;
+    }
+    let ev = |p: &[f32; 2], d: f32| p[0] + p[1] * d;
+    let (mut zf, mut zb) = ([0f32; LANES], [0f32; LANES]);
+    if parallel {
+        for i in 0..LANES {
+            let d = dx[i];
+            zf[i] = ev(&rp.front[0], d)
+                .max(ev(&rp.front[1], d))
+                .max(ev(&rp.front[2], d));
+            zb[i] = ev(&rp.back[0], d)
+                .min(ev(&rp.back[1], d))
+                .min(ev(&rp.back[2], d));
+        }
+    } else {
+        let w0 = t.w0;
+        for i in 0..LANES {
+            let d = dx[i];
+            let df = ev(&rp.front[0], d)
+                .min(ev(&rp.front[1], d))
+                .min(ev(&rp.front[2], d));
+            let db = ev(&rp.back[0], d)
+                .max(ev(&rp.back[1], d))
+                .max(ev(&rp.back[2], d));
+            // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
+            zf[i] = -df / (w0 * (w0 + df));
+            zb[i] = -db / (w0 * (w0 + db));
+        }
+    }
+    let (mut sf, mut sb, mut l) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+    for i in 0..LANES {
+        let d = dx[i];
+        let sref = ev(&rp.sref, d);
+        let h = ev(&rp.h, d);
+        sf[i] = (sref + zf[i] * h).clamp(t.smin, t.smax);
+        sb[i] = (sref + zb[i] * h).clamp(t.smin, t.smax);
+        let li = ((zb[i] - zf[i]) * stretch[i]).max(0.0);
+        l[i] = if li.is_finite() { li } else { 0.0 };
+    }
+    [sf, sb, l]
+}
+
+/// Rasterizes one tet into a tile buffer (front to back). Returns fragments drawn and how many
+/// pixels became opaque.
+#[inline(always)]
+pub(crate) fn raster<S: Shade>(
+    t: &TetSetup,
+    parallel: bool,
+    tile: Tile,
+    buf: &mut [[f32; 4]],
+    stretch: &[f32],
+    width: usize,
+    shade: &S,
+) -> (u64, usize) {
+    let (tx0, ty0, tx1, _) = tile;
+    let Some((x0, x1, y0, y1)) = t.clip(tile) else {
+        return (0, 0);
+    };
+    let tw = (tx1 - tx0 + 1) as usize;
+    let mut frags = 0u64;
+    let mut newly_opaque = 0usize;
+    let edges = SpanEdges::new(t);
+    for y in y0..=y1 {
+        let Some((xa, xb)) = edges.span(y, x0, x1) else {
+            continue;
+        };
+        let rp = RowPlanes::new(t, y as f32 + 0.5 - t.oy);
+        let row = &mut buf[(y - ty0) as usize * tw..][..tw];
+        let srow = &stretch[y as usize * width..][..width];
+        let mut x = xa;
+        while x <= xb {
+            let n = ((xb - x + 1) as usize).min(LANES);
+            let xs = x as usize;
+            let st: [f32; LANES] = match srow.get(xs..xs + LANES) {
+                Some(s) => s.try_into().unwrap_or([0.0; LANES]),
+                None => std::array::from_fn(|i| srow.get(xs + i).copied().unwrap_or(0.0)),
+            };
+            let f = fragments(t, &rp, parallel, x, &st);
+            let prep = shade.prep(&f);
+            let out = &mut row[(x - tx0) as usize..][..n];
+            for (i, slot) in out.iter_mut().enumerate() {
+                if slot[3] >= OPAQUE {
+                    continue;
+                }
+                let c = shade.at(&prep, i);
+                let k = 1.0 - slot[3];
+                slot[0] += k * c[0];
+                slot[1] += k * c[1];
+                slot[2] += k * c[2];
+                slot[3] += k * c[3];
+                frags += 1;
+                if slot[3] >= OPAQUE {
+                    newly_opaque += 1;
+                }
+            }
+            x += LANES as i64;
+        }
+    }
+    (frags, newly_opaque)
+}

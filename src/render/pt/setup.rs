@@ -1,0 +1,319 @@
+//! Per-tet set-up of the rasterizer: the exact silhouette, the front and back face depth planes and the scalar along each pixel's ray, kept compact (f32) since a frame holds one per drawn tet.
+
+// Negated comparisons are deliberate: they also catch NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::classify::{class_index, classify, face_areas, orient2, ProjClass, FACES};
+use super::raster::RowPlanes;
+use super::tiles::Tile;
+use super::{Projected, PtStats, View, SUB};
+use crate::geom;
+
+/// An edge of the silhouette: inside where `a x + b y + c > 0`, or `== 0` when `own`.
+#[derive(Clone, Copy)]
+pub(crate) struct Edge {
+    pub(crate) a: i64,
+    pub(crate) b: i64,
+    pub(crate) c: i64,
+    pub(crate) bias: i64,
+}
+
+impl TetSetup {
+    /// The silhouette's edges: the first [`TetSetup::nedges`] entries.
+    #[inline(always)]
+    pub(crate) fn edges(&self) -> [Edge; 4] {
+        let n = self.nedges as usize;
+        let p = |k: usize| {
+            let q = self.poly[k % n];
+            (q[0] as i64, q[1] as i64)
+        };
+        [0, 1, 2, 3].map(|e| Edge::new(p(e), p(e + 1)))
+    }
+
+    /// Pixel bounds (x0, x1, y0, y1), inclusive, clipped to `tile` (x0, y0, x1, y1); `None`
+    /// when they miss it.
+    #[inline(always)]
+    pub(crate) fn clip(&self, tile: Tile) -> Option<(i64, i64, i64, i64)> {
+        let (tx0, ty0, tx1, ty1) = tile;
+        let b = (
+            (self.x0 as i64).max(tx0),
+            (self.x1 as i64).min(tx1),
+            (self.y0 as i64).max(ty0),
+            (self.y1 as i64).min(ty1),
+        );
+        (b.0 <= b.1 && b.2 <= b.3).then_some(b)
+    }
+}
+
+impl Edge {
+    /// Edge from `p` to `q` of a positively oriented polygon.
+    #[inline]
+    fn new(p: (i64, i64), q: (i64, i64)) -> Edge {
+        let (dx, dy) = (q.0 - p.0, q.1 - p.1);
+        // E(x, y) = dx (y - py) - dy (x - px); owner rule is antisymmetric in the direction, so a
+        // pixel centre on an edge shared by two silhouettes lies in exactly one of them.
+        let own = dy < 0 || (dy == 0 && dx > 0);
+        Edge {
+            a: -dy,
+            b: dx,
+            c: dy * p.0 - dx * p.1,
+            bias: if own { 0 } else { -1 },
+        }
+    }
+}
+
+/// Everything one tet needs per pixel, set up once per frame from its projected vertices and
+/// kept compact (f32, fixed-point corners), since a frame holds one per drawn tet.
+#[derive(Clone, Copy)]
+pub(crate) struct TetSetup {
+    /// Silhouette corners (fixed point), positively oriented: `nedges` of them.
+    pub(crate) poly: [[i32; 2]; 4],
+    pub(crate) nedges: u32,
+    /// Pixel bounds, inclusive.
+    pub(crate) x0: i32,
+    pub(crate) x1: i32,
+    pub(crate) y0: i32,
+    pub(crate) y1: i32,
+    pub(crate) ox: f32,
+    pub(crate) oy: f32,
+    /// Face depth planes relative to vertex 0: delta = c + ax dx + ay dy. Unused slots repeat
+    /// a used plane, so min and max may take all three.
+    pub(crate) front: [[f32; 3]; 3],
+    pub(crate) back: [[f32; 3]; 3],
+    pub(crate) w0: f32,
+    /// Scalar at vertex 0's depth along the pixel's ray, and its change per unit of depth.
+    pub(crate) sref: [f32; 3],
+    pub(crate) h: [f32; 3],
+    pub(crate) smin: f32,
+    pub(crate) smax: f32,
+}
+
+/// Linear function through three screen points: value at `(ox, oy)` and slopes.
+#[inline(always)]
+fn plane_fit(p: [(f64, f64); 3], v: [f64; 3], ox: f64, oy: f64) -> Option<[f64; 3]> {
+    let (e1x, e1y) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
+    let (e2x, e2y) = (p[2].0 - p[0].0, p[2].1 - p[0].1);
+    let det = e1x * e2y - e1y * e2x;
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let (d1, d2) = (v[1] - v[0], v[2] - v[0]);
+    let ax = (d1 * e2y - d2 * e1y) / det;
+    let ay = (d2 * e1x - d1 * e2x) / det;
+    let c = v[0] + ax * (ox - p[0].0) + ay * (oy - p[0].1);
+    (ax.is_finite() && ay.is_finite() && c.is_finite()).then_some([c, ax, ay])
+}
+
+#[inline(always)]
+pub(crate) fn setup_tet(
+    view: &View,
+    pv: [&Projected; 4],
+    s: [f64; 4],
+    stats: &mut PtStats,
+) -> Option<TetSetup> {
+    if pv.iter().any(|p| !p.ok) {
+        stats.clipped += 1;
+        return None;
+    }
+    let fp = pv.map(|p| (p.fx, p.fy));
+    let d = face_areas(&fp);
+    let class = classify(&d);
+    stats.class[class_index(class)] += 1;
+    if class == ProjClass::Flat {
+        return None;
+    }
+    // Silhouette, positively oriented.
+    let (mut pos, mut np) = ([0usize; 4], 0);
+    let (mut neg, mut nn) = ([0usize; 4], 0);
+    for (i, &di) in d.iter().enumerate() {
+        if di > 0 {
+            pos[np] = i;
+            np += 1;
+        } else if di < 0 {
+            neg[nn] = i;
+            nn += 1;
+        }
+    }
+    let mut poly = [(0i64, 0i64); 4];
+    let nedges;
+    if np == 1 || nn == 1 {
+        let lone = if np == 1 { pos[0] } else { neg[0] };
+        let f = FACES[lone];
+        let tri = if d[lone] > 0 {
+            [fp[f[0]], fp[f[1]], fp[f[2]]]
+        } else {
+            [fp[f[0]], fp[f[2]], fp[f[1]]]
+        };
+        poly[..3].copy_from_slice(&tri);
+        nedges = 3;
+    } else {
+        // 2 + 2: the positive faces i, j share edge k-l; diagonals i-j and k-l cross.
+        let (i, j) = (pos[0], pos[1]);
+        let (k, l) = (neg[0], neg[1]);
+        let q = if orient2(fp[i], fp[k], fp[j]) > 0 {
+            [i, k, j, l]
+        } else {
+            [i, l, j, k]
+        };
+        for (n, &v) in q.iter().enumerate() {
+            poly[n] = fp[v];
+        }
+        nedges = 4;
+    }
+    let (mut xmin, mut xmax, mut ymin, mut ymax) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+    for p in &fp {
+        xmin = xmin.min(p.0);
+        xmax = xmax.max(p.0);
+        ymin = ymin.min(p.1);
+        ymax = ymax.max(p.1);
+    }
+    // Pixel centres at 256 i + 128 inside [min, max].
+    let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
+    let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
+    let (x0, x1, y0, y1) = (
+        lo(xmin).max(0),
+        hi(xmax).min(view.width as i64 - 1),
+        lo(ymin).max(0),
+        hi(ymax).min(view.height as i64 - 1),
+    );
+    if x0 > x1 || y0 > y1 {
+        return None;
+    }
+
+    // Depth planes: w = 1/z (perspective) or z (parallel), relative to vertex 0.
+    let w = |p: &Projected| {
+        if view.parallel {
+            p.view[2]
+        } else {
+            1.0 / p.view[2]
+        }
+    };
+    let w0 = w(pv[0]);
+    let (ox, oy) = (pv[0].px, pv[0].py);
+    // Which sign group faces the eye: decided in 3-D on the face with the largest projection.
+    let big = (0..4).max_by_key(|&i| d[i].abs()).unwrap_or(0);
+    let fv = FACES[big].map(|k| pv[k].view);
+    let sub = |a: [f64; 3], b: [f64; 3]| geom::sub(&a, &b);
+    let cr = |a: [f64; 3], b: [f64; 3]| geom::cross(&a, &b);
+    let dt = |a: [f64; 3], b: [f64; 3]| geom::dot(&a, &b);
+    let n = cr(sub(fv[1], fv[0]), sub(fv[2], fv[0]));
+    let vside = dt(n, sub(pv[big].view, fv[0]));
+    let eside = if view.parallel { -n[2] } else { -dt(n, fv[0]) };
+    // Front when the eye and the opposite vertex are on different sides of the face plane.
+    let big_front = (vside > 0.0) != (eside > 0.0);
+    let big_pos = d[big] > 0;
+    let mut front = [[0f32; 3]; 3];
+    let mut back = [[0f32; 3]; 3];
+    let (mut nf, mut nb) = (0, 0);
+    for (i, f) in FACES.iter().enumerate() {
+        if d[i] == 0 {
+            continue;
+        }
+        let pts = f.map(|k| (pv[k].px, pv[k].py));
+        let vals = f.map(|k| w(pv[k]) - w0);
+        let Some(pl) = plane_fit(pts, vals, ox, oy) else {
+            continue;
+        };
+        let pl = pl.map(|x| x as f32);
+        // Front or back by the unsnapped projection the plane was fitted to: a face seen nearly
+        // edge-on can change sign on the fixed-point grid, and a flipped steep plane would cut
+        // the whole tet away.
+        let (a, b, c) = (pts[0], pts[1], pts[2]);
+        let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+        if (area > 0.0) == (big_pos == big_front) {
+            front[nf] = pl;
+            nf += 1;
+        } else {
+            back[nb] = pl;
+            nb += 1;
+        }
+    }
+    if nf == 0 || nb == 0 {
+        return None;
+    }
+
+    // Scalar gradient in view coordinates.
+    let e = [1, 2, 3].map(|k| sub(pv[k].view, pv[0].view));
+    let ds = [1, 2, 3].map(|k| s[k] - s[0]);
+    let det = dt(e[0], cr(e[1], e[2]));
+    let g = if det != 0.0 && det.is_finite() {
+        let (c0, c1, c2) = (cr(e[1], e[2]), cr(e[2], e[0]), cr(e[0], e[1]));
+        [0, 1, 2].map(|a| (ds[0] * c0[a] + ds[1] * c1[a] + ds[2] * c2[a]) / det)
+    } else {
+        [0.0; 3]
+    };
+    let v0 = pv[0].view;
+    let (wd, hd) = (view.width as f64, view.height as f64);
+    // xs = (2 px / W - 1) aspect, ys = 1 - 2 py / H.
+    let (dxs, dys) = (2.0 * view.aspect / wd, -2.0 / hd);
+    let (xs0, ys0) = view.screen_plane(ox, oy);
+    let (sref, h) = if view.parallel {
+        // P = (scale xs, scale ys, z): S = s0 + g.(P - v0).
+        let sr0 = s[0] + g[0] * (view.scale * xs0 - v0[0]) + g[1] * (view.scale * ys0 - v0[1]);
+        (
+            [sr0, g[0] * view.scale * dxs, g[1] * view.scale * dys],
+            [g[2], 0.0, 0.0],
+        )
+    } else {
+        // P = z (scale xs, scale ys, 1): S = s0 - g.v0 + z H, H = g.(scale xs, scale ys, 1).
+        let h0 = g[0] * view.scale * xs0 + g[1] * view.scale * ys0 + g[2];
+        let (hx, hy) = (g[0] * view.scale * dxs, g[1] * view.scale * dys);
+        let z0 = v0[2];
+        let d0 = [view.scale * xs0 * z0, view.scale * ys0 * z0, z0];
+        let sr0 = s[0] + dt(g, sub(d0, v0));
+        ([sr0, z0 * hx, z0 * hy], [h0, hx, hy])
+    };
+    let smin = s.iter().copied().fold(f64::INFINITY, f64::min);
+    let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // Unused plane slots repeat the first plane, so the rasterizer takes the min and max over
+    // all three without branching (a repeat changes neither).
+    for k in nf..3 {
+        front[k] = front[0];
+    }
+    for k in nb..3 {
+        back[k] = back[0];
+    }
+    Some(TetSetup {
+        poly: poly.map(|p| [p.0 as i32, p.1 as i32]),
+        nedges: nedges as u32,
+        x0: x0 as i32,
+        x1: x1 as i32,
+        y0: y0 as i32,
+        y1: y1 as i32,
+        ox: ox as f32,
+        oy: oy as f32,
+        front,
+        back,
+        w0: w0 as f32,
+        sref: sref.map(|x| x as f32),
+        h: h.map(|x| x as f32),
+        smin: smin as f32,
+        smax: smax as f32,
+    })
+}
+
+/// A fragment's entry and exit depths relative to vertex 0's depth, and its scalar as
+/// `sref + h * depth` (unclamped), at pixel centre `(cx, cy)`: what a scene splits at body
+/// crossings.
+#[inline(always)]
+pub(crate) fn fragment_span(t: &TetSetup, parallel: bool, x: i64, y: i64) -> (f32, f32, f32, f32) {
+    // Evaluated exactly as [`fragments`] does, so a fragment the scene does not split matches
+    // the plain rasterizer's bit for bit.
+    let rp = RowPlanes::new(t, y as f32 + 0.5 - t.oy);
+    let dx = x as f32 + 0.5 - t.ox;
+    let ev = |p: &[f32; 2]| p[0] + p[1] * dx;
+    let (zf, zb) = if parallel {
+        let f = rp.front.map(|p| ev(&p));
+        let b = rp.back.map(|p| ev(&p));
+        (f[0].max(f[1]).max(f[2]), b[0].min(b[1]).min(b[2]))
+    } else {
+        let f = rp.front.map(|p| ev(&p));
+        let b = rp.back.map(|p| ev(&p));
+        let df = f[0].min(f[1]).min(f[2]);
+        let db = b[0].max(b[1]).max(b[2]);
+        // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
+        let w0 = t.w0;
+        (-df / (w0 * (w0 + df)), -db / (w0 * (w0 + db)))
+    };
+    (zf, zb, ev(&rp.sref), ev(&rp.h))
+}
