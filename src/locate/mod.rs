@@ -220,6 +220,7 @@ impl BoundaryIndex {
 }
 
 /// Where the ray crosses face `face` of `tet` going into the tet, if it does.
+#[inline]
 pub fn entry_hit(
     points: &[[f64; 3]],
     tet: &[u32; 4],
@@ -227,7 +228,13 @@ pub fn entry_hit(
     o: &[f64; 3],
     d: &[f64; 3],
 ) -> Option<f64> {
-    let f = FACES[face as usize].map(|k| points[tet[k] as usize]);
+    // Written out: the array `map` here is left as a call in some builds.
+    let fv = &FACES[face as usize];
+    let f = [
+        points[tet[fv[0]] as usize],
+        points[tet[fv[1]] as usize],
+        points[tet[fv[2]] as usize],
+    ];
     let opp = points[tet[face as usize] as usize];
     let sub = |a: &[f64; 3], b: &[f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     let cross = |a: &[f64; 3], b: &[f64; 3]| {

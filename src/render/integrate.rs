@@ -39,10 +39,6 @@ impl Integration {
     }
 }
 
-/// Gauss-Legendre nodes and weights on [0, 1], 3 points.
-const GL3_X: [f64; 3] = [0.112_701_665_379_258_31, 0.5, 0.887_298_334_620_741_7];
-const GL3_W: [f64; 3] = [5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0];
-
 /// Gauss-Legendre nodes and weights on [0, 1], 4 points.
 const GL_X: [f64; 4] = [
     0.069_431_844_202_973_71,
@@ -115,9 +111,20 @@ fn exp_neg_small(x: f64) -> f64 {
 /// `exp(-x)` for `x` in [0, 1/16]: degree 7 (error `x^8 / 8!` below 1.4e-14).
 #[inline(always)]
 fn exp_neg_tiny(x: f64) -> f64 {
+    // Multiplications by the constant reciprocals: `x / 6.0` would stay a division.
+    const C: [f64; 8] = [
+        1.0,
+        -1.0,
+        1.0 / 2.0,
+        -1.0 / 6.0,
+        1.0 / 24.0,
+        -1.0 / 120.0,
+        1.0 / 720.0,
+        -1.0 / 5040.0,
+    ];
     let x2 = x * x;
-    let a = (1.0 - x) + (0.5 - x / 6.0) * x2;
-    let b = (1.0 / 24.0 - x / 120.0) + (1.0 / 720.0 - x / 5040.0) * x2;
+    let a = (C[0] + C[1] * x) + (C[2] + C[3] * x) * x2;
+    let b = (C[4] + C[5] * x) + (C[6] + C[7] * x) * x2;
     a + b * (x2 * x2)
 }
 
@@ -134,9 +141,9 @@ fn exp_neg(x: f64) -> f64 {
 }
 
 /// `int_0^1 exp(-(p u + q u^2)) du` for `p >= 0`, `p + 2q >= 0` (optical depth increasing in u),
-/// given `trans = exp(-(p + q))`. Constant extinction (`q = 0`) in closed form; otherwise
-/// Gauss-Legendre: 3 points while the depth's slope is <= 1/16 and `|q| <= 1/256`, 4 points while
-/// the slope is <= 0.5 and `|q| <= 1/16` (both with [`exp_neg`]'s polynomials), else composite
+/// given `trans = exp(-(p + q))`, for pieces beyond [`piece_integrals`]' series. Constant
+/// extinction (`q = 0`) in closed form; otherwise Gauss-Legendre: 4 points while the slope is
+/// <= 0.5 and `|q| <= 1/16` (with [`exp_neg_small`]), else composite
 /// 8-point on intervals of optical depth <= 4, stopping where the depth passes 40 (the rest is
 /// below 4e-18). The quadrature error grows with the curvature `q` as much as with the depth, hence
 /// both limits; measured over each tier's corners (mpmath), the relative error is below 2e-10.
@@ -148,7 +155,7 @@ fn depth_integral(p: f64, q: f64, trans: f64) -> f64 {
     if q == 0.0 {
         // (1 - e^-p) / p; its series where the difference would lose digits (error p^4/120).
         return if p < 1e-3 {
-            1.0 - p * (0.5 - p * (1.0 / 6.0 - p / 24.0))
+            1.0 - p * (0.5 - p * (1.0 / 6.0 - p * (1.0 / 24.0)))
         } else {
             (1.0 - trans) / p
         };
@@ -164,12 +171,6 @@ fn depth_integral(p: f64, q: f64, trans: f64) -> f64 {
     let total = slope * umax;
     let mut sum = 0.0;
     let curv = q.abs() * umax * umax;
-    if total <= 1.0 / 16.0 && curv <= 1.0 / 256.0 {
-        for (x, w) in GL3_X.iter().zip(GL3_W) {
-            sum += w * exp_neg_tiny(depth(x * umax).max(0.0));
-        }
-        return sum * umax;
-    }
     if total <= 0.5 && curv <= 1.0 / 16.0 {
         // Every depth here is in [0, total].
         for (x, w) in GL_X.iter().zip(GL_W) {
@@ -190,22 +191,71 @@ fn depth_integral(p: f64, q: f64, trans: f64) -> f64 {
     sum * h
 }
 
-/// One piece with colour and extinction linear in the ray parameter: premultiplied colour and
-/// transmittance.
-#[inline]
-fn linear_piece(c0: [f64; 3], t0: f64, c1: [f64; 3], t1: f64, len: f64) -> ([f64; 3], f64) {
-    let p = len * t0;
-    let q = 0.5 * len * (t1 - t0);
+/// Transmittance `exp(-(p + q))` and, when `need_i`, `int_0^1 exp(-(p u + q u^2)) du` of a
+/// piece of optical depth `p u + q u^2`. While the depth's slope is <= 1/16 and `|q| <= 1/256`
+/// (almost every piece) both come from one exponential: a Taylor series about the middle,
+/// `phi(1/2 + v) = pm + s v + q v^2`, gives the integral as
+/// `exp(-pm) int_{-1/2}^{1/2} exp(-(s v + q v^2)) dv` (odd powers of v drop out; terms up to s^6
+/// and q^3, the first left out below 1e-14 relative), and the transmittance is
+/// `exp(-pm)^2 exp(-q/2)`. Other pieces go to [`depth_integral`].
+#[inline(always)]
+fn piece_integrals(p: f64, q: f64, need_i: bool) -> (f64, f64) {
+    let slope = p.max(p + 2.0 * q);
+    if slope <= 1.0 / 16.0 && q.abs() <= 1.0 / 256.0 {
+        let pm = 0.5 * p + 0.25 * q;
+        let e = exp_neg_tiny(pm);
+        // exp(-q/2) for |q/2| <= 1/512: the degree-4 Taylor polynomial (error below 1e-17).
+        let h = 0.5 * q;
+        let eh = 1.0 - h * (1.0 - h * (0.5 - h * (1.0 / 6.0 - h * (1.0 / 24.0))));
+        let trans = e * e * eh;
+        if !need_i {
+            return (trans, 0.0);
+        }
+        let s = p + q;
+        let (s2, q2) = (s * s, q * q);
+        // Coefficients as constant reciprocals (multiplications, not divisions).
+        const K: [f64; 9] = [
+            1.0 / 12.0,
+            1.0 / 24.0,
+            1.0 / 160.0,
+            1.0 / 160.0,
+            1.0 / 2688.0,
+            1.0 / 1920.0,
+            1.0 / 1792.0,
+            1.0 / 10752.0,
+            1.0 / 322_560.0,
+        ];
+        let series = 1.0 - q * K[0] + s2 * K[1] + q2 * K[2] - s2 * q * K[3] - q2 * q * K[4]
+            + s2 * s2 * K[5]
+            + s2 * q2 * K[6]
+            - s2 * s2 * q * K[7]
+            + s2 * s2 * s2 * K[8];
+        return (trans, e * series);
+    }
     let trans = exp_neg(p + q);
-    // Integration by parts: int c tau e^-T = c0 - c1 e^-T1 + (c1 - c0) int e^-T.
-    let needs_i = c0 != c1;
-    let i = if needs_i {
+    let i = if need_i {
         depth_integral(p, q, trans)
     } else {
         0.0
     };
+    (trans, i)
+}
+
+/// One piece with colour and extinction linear in the ray parameter: premultiplied colour and
+/// transmittance.
+#[inline(always)]
+fn linear_piece(c0: [f64; 3], t0: f64, c1: [f64; 3], t1: f64, len: f64) -> ([f64; 3], f64) {
+    let p = len * t0;
+    let q = 0.5 * len * (t1 - t0);
+    // Integration by parts: int c tau e^-T = c0 - c1 e^-T1 + (c1 - c0) int e^-T.
+    let (trans, i) = piece_integrals(p, q, c0 != c1);
+    // Written out: `[0, 1, 2].map` here is left as a call in some builds.
     (
-        [0, 1, 2].map(|k| c0[k] - c1[k] * trans + (c1[k] - c0[k]) * i),
+        [
+            c0[0] - c1[0] * trans + (c1[0] - c0[0]) * i,
+            c0[1] - c1[1] * trans + (c1[1] - c0[1]) * i,
+            c0[2] - c1[2] * trans + (c1[2] - c0[2]) * i,
+        ],
         trans,
     )
 }
@@ -221,70 +271,125 @@ fn int_below(x: f64) -> usize {
     }
 }
 
-/// Exact integral of a segment (premultiplied RGB, alpha): split at every transfer-function node
-/// between `sf` and `sb` (and where the scalar leaves the range, beyond which the function is
-/// constant), each piece integrated in closed form up to the exponential integral. Pieces end on
-/// nodes, so their colour and extinction are the nodes' own values.
+/// Exact integral of a segment (premultiplied RGB, alpha); see [`ExactTf::segment`].
 pub fn exact_segment(tf: &TransferFunction, sf: f64, sb: f64, len: f64) -> [f64; 4] {
-    if !(len > 0.0) {
-        return [0.0; 4];
-    }
-    let mut color = [0.0f64; 3];
-    let mut trans = 1.0f64;
-    let mut add = |c0: [f64; 3], t0: f64, c1: [f64; 3], t1: f64, l: f64| {
-        if l > 0.0 && trans >= 1e-30 {
-            let (c, tr) = linear_piece(c0, t0, c1, t1, l);
-            for k in 0..3 {
-                color[k] += trans * c[k];
-            }
-            trans *= tr;
+    ExactTf::new(tf).segment(sf, sb, len)
+}
+
+/// A transfer function prepared for many exact segment integrals (a frame's worth): what
+/// [`exact_segment`] would work out again for every segment.
+#[derive(Clone, Copy, Debug)]
+pub struct ExactTf<'a> {
+    tf: &'a TransferFunction,
+    r0: f64,
+    /// Node units per scalar unit (unused for a zero-width range).
+    inv: f64,
+    last: usize,
+    step: bool,
+}
+
+impl<'a> ExactTf<'a> {
+    pub fn new(tf: &'a TransferFunction) -> ExactTf<'a> {
+        let (r0, r1) = (tf.range[0], tf.range[1]);
+        let last = tf.nodes() - 1;
+        let step = !(r1 > r0);
+        ExactTf {
+            tf,
+            r0,
+            inv: if step { 0.0 } else { last as f64 / (r1 - r0) },
+            last,
+            step,
         }
-    };
-    let (r0, r1) = (tf.range[0], tf.range[1]);
-    let last = tf.nodes() - 1;
-    let k = last as f64;
-    if !(r1 > r0) || sf == sb {
-        // Constant over the segment, or (a zero-width range) a step at r0 from node 0 to the
-        // last node: at most two constant pieces.
-        let (cf, tf0) = tf.eval(sf);
-        let (cb, tb) = tf.eval(sb);
-        let u = if cf == cb && tf0 == tb {
-            1.0
-        } else {
-            ((r0 - sf) / (sb - sf)).clamp(0.0, 1.0)
+    }
+
+    /// Exact integral of a segment (premultiplied RGB, alpha): split at every transfer-function
+    /// node between `sf` and `sb` (and where the scalar leaves the range, beyond which the
+    /// function is constant), each piece integrated in closed form up to the exponential
+    /// integral. Pieces end on nodes, so their colour and extinction are the nodes' own values.
+    pub fn segment(&self, sf: f64, sb: f64, len: f64) -> [f64; 4] {
+        if !(len > 0.0) {
+            return [0.0; 4];
+        }
+        let tf = self.tf;
+        let mut acc = Acc {
+            color: [0.0; 3],
+            trans: 1.0,
         };
-        add(cf, tf0, cf, tf0, len * u);
-        add(cb, tb, cb, tb, len * (1.0 - u));
-        return [color[0], color[1], color[2], 1.0 - trans];
-    }
-    let inv = k / (r1 - r0);
-    let (xf, xb) = ((sf - r0) * inv, (sb - r0) * inv);
-    let dx = xb - xf;
-    let (mut c0, mut t0) = tf.at_pos(xf.max(0.0).min(k));
-    let mut u0 = 0.0f64;
-    // Nodes strictly between xf and xb within [0, k], in ray order.
-    let mut node = |n: usize| {
-        let u = ((n as f64 - xf) / dx).max(u0).min(1.0);
-        let (c1, t1) = (tf.rgb[n], tf.tau[n]);
-        add(c0, t0, c1, t1, len * (u - u0));
-        (c0, t0, u0) = (c1, t1, u);
-    };
-    if dx > 0.0 && xb > 0.0 && xf < k {
-        let lo = if xf < 0.0 { 0 } else { xf as usize + 1 };
-        let hi = if xb > k { last } else { int_below(xb) };
-        for n in lo..=hi {
-            node(n);
+        let (r0, last) = (self.r0, self.last);
+        let k = last as f64;
+        if self.step || sf == sb {
+            // Constant over the segment, or (a zero-width range) a step at r0 from node 0 to the
+            // last node: at most two constant pieces.
+            let (cf, tf0) = tf.eval(sf);
+            let (cb, tb) = tf.eval(sb);
+            let u = if cf == cb && tf0 == tb {
+                1.0
+            } else {
+                ((r0 - sf) / (sb - sf)).clamp(0.0, 1.0)
+            };
+            acc.add(cf, tf0, cf, tf0, len * u);
+            acc.add(cb, tb, cb, tb, len * (1.0 - u));
+            return acc.rgba();
         }
-    } else if dx < 0.0 && xf > 0.0 && xb < k {
-        let hi = if xf > k { last } else { int_below(xf) };
-        let lo = if xb < 0.0 { 0 } else { xb as usize + 1 };
-        for n in (lo..=hi).rev() {
-            node(n);
+        let (xf, xb) = ((sf - r0) * self.inv, (sb - r0) * self.inv);
+        let dx = xb - xf;
+        let (mut c0, mut t0) = tf.at_pos(xf.max(0.0).min(k));
+        let mut u0 = 0.0f64;
+        let up = dx > 0.0 && xb > 0.0 && xf < k;
+        let down = dx < 0.0 && xf > 0.0 && xb < k;
+        if up || down {
+            let rdx = 1.0 / dx;
+            // Nodes strictly between xf and xb within [0, k], in ray order.
+            let (first, count) = if up {
+                let lo = if xf < 0.0 { 0 } else { xf as usize + 1 };
+                let hi = if xb > k { last } else { int_below(xb) };
+                (lo, (hi + 1).saturating_sub(lo))
+            } else {
+                let hi = if xf > k { last } else { int_below(xf) };
+                let lo = if xb < 0.0 { 0 } else { xb as usize + 1 };
+                (hi, (hi + 1).saturating_sub(lo))
+            };
+            for j in 0..count {
+                let n = if up { first + j } else { first - j };
+                let u = ((n as f64 - xf) * rdx).max(u0).min(1.0);
+                let (c1, t1) = (tf.rgb[n], tf.tau[n]);
+                acc.add(c0, t0, c1, t1, len * (u - u0));
+                (c0, t0, u0) = (c1, t1, u);
+            }
+        }
+        let (c1, t1) = tf.at_pos(xb.max(0.0).min(k));
+        acc.add(c0, t0, c1, t1, len * (1.0 - u0));
+        acc.rgba()
+    }
+}
+
+/// Premultiplied colour and transmittance of the pieces so far.
+struct Acc {
+    color: [f64; 3],
+    trans: f64,
+}
+
+impl Acc {
+    #[inline(always)]
+    fn add(&mut self, c0: [f64; 3], t0: f64, c1: [f64; 3], t1: f64, l: f64) {
+        if l > 0.0 && self.trans >= 1e-30 {
+            let (c, tr) = linear_piece(c0, t0, c1, t1, l);
+            for (a, ck) in self.color.iter_mut().zip(c) {
+                *a += self.trans * ck;
+            }
+            self.trans *= tr;
         }
     }
-    let (c1, t1) = tf.at_pos(xb.max(0.0).min(k));
-    add(c0, t0, c1, t1, len * (1.0 - u0));
-    [color[0], color[1], color[2], 1.0 - trans]
+
+    #[inline(always)]
+    fn rgba(&self) -> [f64; 4] {
+        [
+            self.color[0],
+            self.color[1],
+            self.color[2],
+            1.0 - self.trans,
+        ]
+    }
 }
 
 /// Colour and extinction linear between the ends (the transfer function sampled at Sf and Sb
@@ -589,8 +694,33 @@ mod tests {
     }
 
     #[test]
+    fn depth_integral_series_tier_is_tight() {
+        // The series tier's corners and inside, against a fine midpoint sum (error ~1e-13).
+        for (p, q) in [
+            (1.0 / 16.0, -1.0 / 256.0),
+            (1.0 / 16.0 - 2.0 / 256.0, 1.0 / 256.0),
+            (0.03, -0.01),
+            (1e-4, -5e-5),
+            (0.0, 1e-3),
+        ] {
+            let n = 200_000;
+            let fine: f64 = (0..n)
+                .map(|i| {
+                    let u = (i as f64 + 0.5) / n as f64;
+                    (-(p * u + q * u * u)).exp()
+                })
+                .sum::<f64>()
+                / n as f64;
+            let (tr, i) = piece_integrals(p, q, true);
+            assert!((i - fine).abs() < 1e-12, "{p} {q}: {i} vs {fine}");
+            let e = (-(p + q)).exp();
+            assert!((tr - e).abs() < 1e-14, "{p} {q}: {tr} vs {e}");
+        }
+    }
+
+    #[test]
     fn depth_integral_tiers_match_a_fine_sum() {
-        // Across the 3-point, 4-point and 8-point tiers and their corners, q of both signs.
+        // Across the series, 4-point and 8-point tiers and their corners, q of both signs.
         for (p, q) in [
             (1.0 / 16.0, -1.0 / 256.0),
             (0.5, -1.0 / 16.0),
@@ -611,8 +741,10 @@ mod tests {
                 })
                 .sum::<f64>()
                 / n as f64;
-            let i = depth_integral(p, q, (-(p + q)).exp());
+            let (tr, i) = piece_integrals(p, q, true);
             assert!((i - fine).abs() < 3e-10 * fine, "{p} {q}: {i} vs {fine}");
+            let e = (-(p + q)).exp();
+            assert!((tr - e).abs() < 1e-14, "{p} {q}: {tr} vs {e}");
         }
     }
 

@@ -8,7 +8,7 @@
 
 use super::field::Field;
 use super::image::Image;
-use super::integrate::exact_segment;
+use super::integrate::ExactTf;
 use super::transfer::TransferFunction;
 use super::walk::{self, TetPlanes};
 use crate::camera::Camera;
@@ -77,8 +77,9 @@ impl<'a> RayCaster<'a> {
         d: &[f64; 3],
         stats: &mut RayStats,
     ) -> [f64; 4] {
+        let ex = ExactTf::new(tf);
         self.trace_with(o, d, stats, |tin, tout, sin, sout| {
-            exact_segment(tf, sin, sout, tout - tin)
+            ex.segment(sin, sout, tout - tin)
         })
     }
 
@@ -210,7 +211,8 @@ impl<'a> RayCaster<'a> {
         width: u32,
         height: u32,
     ) -> (Image, RayStats) {
-        self.render_with(&|a, b, l| exact_segment(tf, a, b, l), cam, width, height)
+        let ex = ExactTf::new(tf);
+        self.render_with(&|a, b, l| ex.segment(a, b, l), cam, width, height)
     }
 
     /// [`Self::render`] with another integration of each segment, e.g. the pre-integration

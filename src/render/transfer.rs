@@ -367,6 +367,7 @@ impl TransferFunction {
     }
 
     /// Colour and extinction at node position `x` (linear between nodes).
+    #[inline(always)]
     pub fn at_pos(&self, x: f64) -> ([f64; 3], f64) {
         let last = self.nodes() - 1;
         // Truncation is the floor for x >= 0 (and NaN or x < 0 give 0 either way), without a
@@ -378,11 +379,16 @@ impl TransferFunction {
         let t = x - i as f64;
         let (a, b) = (self.rgb[i], self.rgb[i + 1]);
         (
-            [0, 1, 2].map(|c| a[c] + t * (b[c] - a[c])),
+            [
+                a[0] + t * (b[0] - a[0]),
+                a[1] + t * (b[1] - a[1]),
+                a[2] + t * (b[2] - a[2]),
+            ],
             self.tau[i] + t * (self.tau[i + 1] - self.tau[i]),
         )
     }
 
+    #[inline]
     pub fn eval(&self, s: f64) -> ([f64; 3], f64) {
         self.at_pos(self.node_pos(s))
     }
