@@ -525,6 +525,81 @@ fn raster_split(
     newly_opaque
 }
 
+/// The per-pixel clipping path (a tet with a vertex behind the eye, or beyond the guard band)
+/// with each pixel's ray segment split at its body crossings, as [`raster_split`] does for
+/// rasterized tets: newly opaque pixels (fragments go to `st`).
+#[allow(clippy::too_many_arguments)]
+fn clip_split(
+    c: &pt::ClipSetup,
+    view: &View,
+    b: pt::PixelBox,
+    tile: pt::Tile,
+    buf: &mut [[f32; 4]],
+    reg: &TileRegions,
+    slots: &[u16; 256],
+    shaders: &[&Shader],
+    st: &mut SplitStats,
+) -> (u64, usize) {
+    let (tx0, ty0, tx1, _) = tile;
+    let tw = (tx1 - tx0 + 1) as usize;
+    let (mut frags, mut newly) = (0u64, 0usize);
+    for y in tile.1.max(b.1)..=tile.3.min(b.3) {
+        for x in tile.0.max(b.0)..=tile.2.min(b.2) {
+            let p = (y - ty0) as usize * tw + (x - tx0) as usize;
+            let slot = &mut buf[p];
+            if slot[3] >= OPAQUE {
+                continue;
+            }
+            let (ra, rb, zmin) = pt::pixel_ray(view, x, y);
+            let Some((zf, zb)) = c.span(ra, rb, zmin) else {
+                continue;
+            };
+            frags += 1;
+            let len = dot(&rb, &rb).sqrt();
+            let (lo, hi) = (reg.off[p] as usize, reg.off[p + 1] as usize);
+            let (zs, cs) = (&reg.z[lo..hi], &reg.codes[lo..hi]);
+            let mut i = zs.partition_point(|&z| z <= zf);
+            let code = if i == 0 { reg.start[p] } else { cs[i - 1] };
+            let mut cur = slots[code as usize];
+            let (mut a, mut n) = (zf, 0u64);
+            let mut emit = |a: f64, z: f64, k: u16, slot: &mut [f32; 4]| {
+                n += 1;
+                if k == CUT {
+                    return;
+                }
+                let (sa, sb) = (c.scalar(ra, rb, a), c.scalar(ra, rb, z));
+                let col = shaders[k as usize].shade(sa as f32, sb as f32, ((z - a) * len) as f32);
+                let kk = 1.0 - slot[3];
+                for ch in 0..4 {
+                    slot[ch] += kk * col[ch];
+                }
+            };
+            while i < zs.len() && zs[i] < zb {
+                let next = slots[cs[i] as usize];
+                if next != cur {
+                    if zs[i] > a {
+                        emit(a, zs[i], cur, slot);
+                        a = zs[i];
+                    }
+                    cur = next;
+                }
+                i += 1;
+            }
+            emit(a, zb, cur, slot);
+            if n > 1 {
+                st.split += 1;
+                st.pieces += n;
+            }
+            if slot[3] >= OPAQUE {
+                newly += 1;
+            }
+        }
+    }
+    // Counted in the split stats, as raster_split's fragments are.
+    st.fragments += frags;
+    (0, newly)
+}
+
 /// Projected tetrahedra with the scene: crossings per pixel (inside body rectangles only), the
 /// codes present merged into classes, a table per drawn transfer function (cached), then the
 /// tiles rasterized in the global order with each fragment split where its pixel's ray crosses a
@@ -756,9 +831,11 @@ impl pt::TileDraw for SceneDraw<'_> {
                 );
                 (0, o)
             }
-            // A tile without crossings is always uniform (code 0); a tet on the clipping path
-            // (a vertex behind the eye) is not split at crossings and is left out there.
-            _ => (0, 0),
+            (None, Some(r), pt::PrepKind::Clipped(c, b)) => {
+                clip_split(c, f.view, *b, tile, buf, r, self.slots, self.shaders, sst)
+            }
+            // A tile without crossings is always uniform (code 0).
+            (None, None, _) => (0, 0),
         }
     }
 }

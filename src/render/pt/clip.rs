@@ -59,14 +59,14 @@ impl ClipSetup {
         })
     }
 
-    /// (Sf, Sb, l) of the ray `A + z B` (z the view depth), from `zmin` on.
+    /// The view depths `(z0, z1)` where the ray `A + z B` (z the view depth) is inside the tet,
+    /// from `zmin` on.
     #[inline]
-    fn segment(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64, f64)> {
-        let dt = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    pub(crate) fn span(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64)> {
         let (mut z0, mut z1) = (zmin, f64::INFINITY);
         for (n, c) in &self.planes {
-            let na = dt(*n, a);
-            let nb = dt(*n, b);
+            let na = dot3(*n, a);
+            let nb = dot3(*n, b);
             // n.A + z n.B <= c.
             if nb > 0.0 {
                 z1 = z1.min((c - na) / nb);
@@ -76,19 +76,50 @@ impl ClipSetup {
                 return None;
             }
         }
-        if !(z1 > z0) || !z0.is_finite() || !z1.is_finite() {
-            return None;
-        }
-        let at = |z: f64| {
-            let p = [a[0] + z * b[0], a[1] + z * b[1], a[2] + z * b[2]];
-            (self.s0
-                + dt(
-                    self.g,
-                    [p[0] - self.v0[0], p[1] - self.v0[1], p[2] - self.v0[2]],
-                ))
-            .clamp(self.smin, self.smax)
-        };
-        Some((at(z0), at(z1), (z1 - z0) * dt(b, b).sqrt()))
+        (z1 > z0 && z0.is_finite() && z1.is_finite()).then_some((z0, z1))
+    }
+
+    /// The scalar at depth `z` of the ray `A + z B`, clamped to the tet's range.
+    #[inline]
+    pub(crate) fn scalar(&self, a: [f64; 3], b: [f64; 3], z: f64) -> f64 {
+        let p = [a[0] + z * b[0], a[1] + z * b[1], a[2] + z * b[2]];
+        (self.s0
+            + dot3(
+                self.g,
+                [p[0] - self.v0[0], p[1] - self.v0[1], p[2] - self.v0[2]],
+            ))
+        .clamp(self.smin, self.smax)
+    }
+
+    /// (Sf, Sb, l) of the ray `A + z B` (z the view depth), from `zmin` on.
+    #[inline]
+    fn segment(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64, f64)> {
+        let (z0, z1) = self.span(a, b, zmin)?;
+        Some((
+            self.scalar(a, b, z0),
+            self.scalar(a, b, z1),
+            (z1 - z0) * dot3(b, b).sqrt(),
+        ))
+    }
+}
+
+fn dot3(p: [f64; 3], q: [f64; 3]) -> f64 {
+    p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
+}
+
+/// The ray of pixel `(x, y)` as `A + z B` with `z` the view depth (from the eye in perspective,
+/// from the camera plane in parallel), and the depth where it starts.
+#[inline]
+pub(crate) fn pixel_ray(view: &View, x: i64, y: i64) -> ([f64; 3], [f64; 3], f64) {
+    let (xs, ys) = view.screen_plane(x as f64 + 0.5, y as f64 + 0.5);
+    if view.parallel {
+        (
+            [view.scale * xs, view.scale * ys, 0.0],
+            [0.0, 0.0, 1.0],
+            f64::NEG_INFINITY,
+        )
+    } else {
+        ([0.0; 3], [view.scale * xs, view.scale * ys, 1.0], 0.0)
     }
 }
 
@@ -166,11 +197,6 @@ impl ClipSetup {
             tile.3.min(b.3),
         );
         let tw = (tx1 - tx0 + 1) as usize;
-        let zmin = if view.parallel {
-            f64::NEG_INFINITY
-        } else {
-            0.0
-        };
         let (mut frags, mut newly) = (0u64, 0usize);
         for y in part.1..=part.3 {
             for x in part.0..=part.2 {
@@ -178,12 +204,7 @@ impl ClipSetup {
                 if slot[3] >= OPAQUE {
                     continue;
                 }
-                let (xs, ys) = view.screen_plane(x as f64 + 0.5, y as f64 + 0.5);
-                let (a, b) = if view.parallel {
-                    ([view.scale * xs, view.scale * ys, 0.0], [0.0, 0.0, 1.0])
-                } else {
-                    ([0.0; 3], [view.scale * xs, view.scale * ys, 1.0])
-                };
+                let (a, b, zmin) = pixel_ray(view, x, y);
                 let Some((sf, sb, l)) = self.segment(a, b, zmin) else {
                     continue;
                 };

@@ -27,6 +27,7 @@ mod tiles;
 mod view;
 
 pub use classify::{classify, face_areas, ProjClass, FACES};
+pub(crate) use clip::{pixel_ray, ClipSetup};
 pub(crate) use setup::{fragment_span, TetSetup};
 pub use shade::Shader;
 pub(crate) use tiles::{render_tiles, Frame, PrepKind, Prepared, Tile, TileDraw};
@@ -48,7 +49,7 @@ const GUARD: f64 = (1i64 << 28) as f64;
 pub(crate) const OPAQUE: f32 = 1.0 - 1.0 / 2048.0;
 
 /// Pixel box (x0, y0, x1, y1), inclusive.
-type PixelBox = (i64, i64, i64, i64);
+pub(crate) type PixelBox = (i64, i64, i64, i64);
 
 /// Counts of what the rasterizer saw, for reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
