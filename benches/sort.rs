@@ -284,6 +284,20 @@ fn nonconvex_per_view(n: usize) {
     }
 }
 
+/// CPU seconds this process has run, all threads (Linux schedstat; 0 elsewhere): on a shared
+/// machine a steadier figure than wall time.
+fn cpu_seconds() -> f64 {
+    let Ok(dir) = std::fs::read_dir("/proc/self/task") else {
+        return 0.0;
+    };
+    let ns: u64 = dir
+        .flatten()
+        .filter_map(|e| std::fs::read_to_string(e.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+        .sum();
+    ns as f64 * 1e-9
+}
+
 fn uptime() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
@@ -328,12 +342,16 @@ fn million_vs_vtk() {
     );
     let mut layers = 0;
     for m in [Method::Kd, Method::Mpvo, Method::Centroid] {
+        let (mut best, c0) = (f64::INFINITY, cpu_seconds());
         let t = median_time(7, || {
+            let s0 = Instant::now();
             let o = s.order(&cam, m, Direction::BackToFront);
+            best = best.min(s0.elapsed().as_secs_f64());
             layers = o.stats.layers;
             std::hint::black_box(o);
         });
-        eprintln!("  tetkit {m:?}: {t:.4} s median of 7 ({layers} layers)");
+        let cpu = (cpu_seconds() - c0) / 7.0;
+        eprintln!("  tetkit {m:?}: {t:.4} s median of 7, best {best:.4} s, CPU {cpu:.4} s per view (all threads) ({layers} layers)");
     }
     let dir = std::env::temp_dir().join(format!("tetkit-sort-bench-{}", std::process::id()));
     let (p, t) = write_raw(&mesh, &dir);

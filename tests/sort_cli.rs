@@ -273,6 +273,8 @@ fn partition_then_kd_sort_is_exact_and_vtk_reads_the_order() {
         r.assert_success();
         let j = json(&r);
         assert_eq!(j["sort_stats"]["leaves"], 4, "{j}");
+        // The partition cut every tet a plane crossed: none sticks out of its leaf.
+        assert_eq!(j["sort_stats"]["tets_outside_leaf"], 0, "{j}");
         assert_eq!(j["report"]["violations"], 0, "{cam:?}: {j}");
     }
     let out = dir.path().join("ordered.vtu");
@@ -288,6 +290,7 @@ fn partition_then_kd_sort_is_exact_and_vtk_reads_the_order() {
     r.assert_success();
     let stats = json(&r);
     let n = stats["stats"]["tets"].as_u64().unwrap();
+    assert!(!r.stderr.contains("warning"), "{}", r.stderr);
     if !common::require_vtk("partition_then_kd_sort_is_exact_and_vtk_reads_the_order") {
         return;
     }

@@ -355,3 +355,38 @@ fn order_is_identical_under_any_thread_count() {
         }
     }
 }
+
+/// A tree whose planes are grid planes holds every tet of the plain grid inside its leaf; on the
+/// jittered grid the same planes cut tets, which the stats count (and the order may misplace).
+#[test]
+fn tets_crossing_their_leaf_box_are_counted() {
+    let c = cam([2.3, 1.7, 1.9], [0.5, 0.5, 0.5], false);
+    let count = |m: &TetMesh, method| {
+        let s = Sorter::new(m, Some(&grid_tree(true))).unwrap();
+        (
+            s.tets_outside_leaf(),
+            s.order(&c, method, Direction::BackToFront)
+                .stats
+                .tets_outside_leaf,
+        )
+    };
+    assert_eq!(count(&tunnels(), Method::Kd), (0, 0));
+    let h = holed();
+    let (n, in_stats) = count(&h, Method::Kd);
+    assert!(n > 0 && in_stats == n, "{n} {in_stats}");
+    // Every counted tet has a vertex on each side of x = 0.5 or y = 0.5.
+    let crossing = h
+        .tets
+        .iter()
+        .filter(|t| {
+            (0..2).any(|k| {
+                let side = |v: &u32| h.points[*v as usize][k] > 0.5;
+                t.iter().any(side)
+                    && !t.iter().all(side)
+                    && t.iter().any(|v| h.points[*v as usize][k] < 0.5)
+            })
+        })
+        .count();
+    assert_eq!(n, crossing);
+    assert_eq!(count(&h, Method::Mpvo).1, 0);
+}

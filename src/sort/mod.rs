@@ -67,6 +67,10 @@ pub struct SortStats {
     pub cycles: usize,
     pub cycle_tets: usize,
     pub broken_constraints: usize,
+    /// Tets with a vertex outside their leaf's box (`kd` only): a tree that does not cut tets
+    /// (leaves by tet centroid) lets them cross a split plane, where the leaf order may misplace
+    /// them; 0 for a mesh split by `tetkit partition`.
+    pub tets_outside_leaf: usize,
     pub seconds: f64,
 }
 
@@ -112,6 +116,7 @@ pub struct Sorter<'m> {
     leaf_boundary: Vec<Option<nonconvex::LeafBoundary>>,
     centroids: Vec<[f64; 3]>,
     bounds: crate::geom::Aabb,
+    outside_leaf: usize,
 }
 
 impl<'m> Sorter<'m> {
@@ -173,6 +178,27 @@ impl<'m> Sorter<'m> {
             .par_iter()
             .map(|nb| (0..4).fold(0u8, |m, i| m | (((nb[i] != NONE) as u8) << i)))
             .collect();
+        let outside_leaf = if nleaves > 1 {
+            let node_of = tree.leaf_nodes();
+            (0..n)
+                .into_par_iter()
+                .filter(|&t| {
+                    let Some(node) = node_of
+                        .get(leaf_of[t] as usize)
+                        .and_then(|&i| tree.nodes.get(i as usize))
+                    else {
+                        return false;
+                    };
+                    let b = &node.bounds;
+                    mesh.tets[t].iter().any(|&v| {
+                        let p = &mesh.points[v as usize];
+                        (0..3).any(|k| p[k] < b.min[k] || p[k] > b.max[k])
+                    })
+                })
+                .count()
+        } else {
+            0
+        };
         let flip: Vec<u8> = (0..n)
             .into_par_iter()
             .map(|t| {
@@ -196,6 +222,7 @@ impl<'m> Sorter<'m> {
             leaf_boundary,
             centroids,
             bounds: mesh.bounds(),
+            outside_leaf,
         })
     }
 
@@ -214,6 +241,11 @@ impl<'m> Sorter<'m> {
     /// Leaf of each tet.
     pub fn leaf_of(&self) -> &[u32] {
         &self.leaf_of
+    }
+
+    /// Tets with a vertex outside their leaf's box (see [`SortStats::tets_outside_leaf`]).
+    pub fn tets_outside_leaf(&self) -> usize {
+        self.outside_leaf
     }
 
     /// Number of leaves whose tets do not form a convex region.
@@ -384,6 +416,7 @@ impl<'m> Sorter<'m> {
             exact_fallbacks,
             extra_seconds,
             nonconvex_leaves: if kd { self.nonconvex_leaves() } else { 0 },
+            tets_outside_leaf: if kd { self.outside_leaf } else { 0 },
             ..Default::default()
         };
         for r in &results {
