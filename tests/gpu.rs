@@ -2,6 +2,8 @@
 //! determinism, reuse across frames, and `tetkit render --device`. Under CI=true a missing adapter
 //! fails these tests; elsewhere they are skipped with the reason printed.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -14,7 +16,7 @@ use tetkit::render::image::Image;
 use tetkit::render::integrate::Integration;
 use tetkit::render::prepare::{self, TableSize};
 use tetkit::render::pt::{self, PtStats, Shader, View};
-use tetkit::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
+use tetkit::render::transfer::{named_colormap, TransferFunction};
 use tetkit::sort::{Direction, Method, Sorter};
 
 /// Largest per-channel difference allowed between GPU (Rgba32Float) and CPU images, measured on
@@ -55,14 +57,7 @@ fn load(rel: &str) -> TetMesh {
 }
 
 fn tf(range: [f64; 2], unit: f64) -> TransferFunction {
-    TransferFunction::build(
-        &named_colormap("viridis").unwrap(),
-        Some(&OpacitySpec::parse("0:0.1,0.4:0.6,0.6:0.2,1:0.8").unwrap()),
-        range,
-        unit,
-        64,
-    )
-    .unwrap()
+    common::look::viridis_tf("0:0.1,0.4:0.6,0.6:0.2,1:0.8", range, unit, 64)
 }
 
 fn shader_for(m: &TetMesh, field: &Field, mode: Integration) -> Shader {
@@ -283,7 +278,7 @@ fn degenerate_projections_match_the_cpu() {
     // An axis-aligned grid seen along an axis: every side face parallel to the view, every
     // vertical edge end-on, shared edges on pixel centres (owner rule and coverage must agree).
     let m = structured_grid([4, 4, 3], [-0.75, -0.75, -0.5], [0.75, 0.75, 0.5]);
-    let field = Field::Point(m.point_data.get("scalar").unwrap().data.to_f64_vec());
+    let field = common::look::point_field(&m);
     let shader = prepare::shader(
         &tf([0.0, 1.0], 0.5),
         Integration::Preintegrated,
@@ -399,7 +394,7 @@ fn cut_scene_matches_the_cpu() {
     let n = [6, 4, 4];
     let mut m = structured_grid(n, [0.0; 3], [1.5, 1.0, 1.0]);
     jitter(&mut m, n, 0.2, 5);
-    let field = Field::Point(m.point_data.get("scalar").unwrap().data.to_f64_vec());
+    let field = common::look::point_field(&m);
     let t = tf([0.0, 1.0], prepare::default_unit_distance(&m));
     let base = BaseLook {
         colors: named_colormap("viridis").unwrap(),
@@ -409,28 +404,10 @@ fn cut_scene_matches_the_cpu() {
     };
     // A box cut, a sphere with its own two-level transfer function, and a sphere cut seen
     // through both.
-    let text = r#"
-[[body]]
-shape = "box"
-min = [0.9, -1.0, 0.55]
-max = [2.0, 0.62, 2.0]
-action = "cut"
-[[body]]
-shape = "sphere"
-center = [0.45, 0.5, 0.5]
-radius = 0.33
-action = "transfer"
-[body.transfer]
-colormap = "inferno"
-opacity = [[0.0, 0.07], [0.5, 0.07], [0.5, 0.93], [1.0, 0.93]]
-[[body]]
-shape = "sphere"
-center = [1.1, 0.4, 0.3]
-radius = 0.2
-action = "cut"
-"#;
+    let text = common::look::box_cut_and_two_level_sphere(0.9)
+        + "[[body]]\nshape = \"sphere\"\ncenter = [1.1, 0.4, 0.3]\nradius = 0.2\naction = \"cut\"\n";
     let dir = tempfile::tempdir().unwrap();
-    let scene = tetkit::scene::parse(text, &dir.path().join("scene.toml")).unwrap();
+    let scene = tetkit::scene::parse(&text, &dir.path().join("scene.toml")).unwrap();
     let look = SceneLook::new(&scene, &t, &base).unwrap();
     let lmax = prepare::longest_edge(&m);
     let mut ctx = Some(ctx);

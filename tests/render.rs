@@ -1,6 +1,8 @@
 //! Render accuracy and determinism on generated meshes: PT against the ray-cast reference for
 //! each sort, degenerate views, and identical images under any thread count.
 
+mod common;
+
 use tetkit::camera::Camera;
 use tetkit::locate::{GridParams, Topology};
 use tetkit::mesh::generate::{jitter, structured_grid};
@@ -17,14 +19,12 @@ use tetkit::sort::{Direction, Method, Sorter};
 const BG: [f32; 3] = [0.0, 0.0, 0.0];
 
 fn tf(mesh: &TetMesh) -> TransferFunction {
-    TransferFunction::build(
-        &named_colormap("viridis").unwrap(),
-        Some(&OpacitySpec::parse("0:0.05,0.4:0.5,0.6:0.1,1:0.8").unwrap()),
+    common::look::viridis_tf(
+        "0:0.05,0.4:0.5,0.6:0.1,1:0.8",
         [0.0, 1.0],
         prepare::default_unit_distance(mesh),
         64,
     )
-    .unwrap()
 }
 
 /// A jittered grid with a slot cut out of its middle: a non-convex U whose arms hide each other.
@@ -45,7 +45,7 @@ fn u_mesh() -> TetMesh {
 }
 
 fn field(m: &TetMesh) -> Field {
-    Field::Point(m.point_data.get("scalar").unwrap().data.to_f64_vec())
+    common::look::point_field(m)
 }
 
 fn reference(m: &TetMesh, f: &Field, tf: &TransferFunction, cam: &Camera, n: u32) -> Image {
@@ -85,15 +85,7 @@ fn pt_image(
 }
 
 fn view_of(m: &TetMesh, az: f64, el: f64, parallel: bool) -> Camera {
-    let mut cam = Camera {
-        parallel,
-        ..Camera::default()
-    };
-    cam.reset_to(&m.bounds());
-    cam.azimuth(az);
-    cam.elevation(el);
-    cam.zoom(1.3);
-    cam
+    common::look::orbit_camera(m, az, el, parallel, 1.3)
 }
 
 /// The TetGen torus fixture: a real non-convex mesh whose far side hides behind its near side.

@@ -1,6 +1,8 @@
 //! Scenes: the scene file (errors with lines), body surfaces from every format, exact crossings
 //! against analytic bodies, and tet classification on meshes whose vertices lie on body surfaces.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use tetkit::camera::Camera;
@@ -111,7 +113,57 @@ fn scene_errors_name_file_and_line() {
     let e = parse_err("[camera]\nview_angle = 200.0\n");
     assert!(e.contains("line 2"), "{e}");
     let e = parse_err("[transfer]\nopacity = [[0.5, 0.2], [0.1, 0.3]]\n");
-    assert!(e.contains("line 1") && e.contains("decrease"), "{e}");
+    assert!(e.contains("line 2") && e.contains("decrease"), "{e}");
+}
+
+/// A body's transfer function: the error names the offending key's line inside
+/// `[body.transfer]`, not the `[[body]]` line (nor the table header's).
+#[test]
+fn body_transfer_errors_name_the_offending_line() {
+    let body = |keys: &str| {
+        format!(
+            "[[body]]\nshape = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\n\
+             action = \"transfer\"\n[body.transfer]\n{keys}"
+        )
+    };
+    for (keys, line, what) in [
+        (
+            "colormap = \"viridis\"\nopacity = [[0.5, 0.2], [0.1, 0.3]]\n",
+            8,
+            "decrease",
+        ),
+        ("opacity = [[0.0, 1.5]]\n", 7, "[0, 1]"),
+        ("colormap = \"no-such-map\"\n", 7, "no-such-map"),
+        (
+            "range = [1.0, 0.0]\ncolormap = \"viridis\"\n",
+            7,
+            "min < max",
+        ),
+        (
+            "colormap = \"viridis\"\nunit_distance = -2.0\n",
+            8,
+            "unit_distance",
+        ),
+        (
+            "colormap = \"viridis\"\npreset = \"missing.json\"\n",
+            8,
+            "not both",
+        ),
+        ("preset = \"missing.json\"\n", 7, "missing.json"),
+    ] {
+        let e = parse_err(&body(keys));
+        assert!(
+            e.contains(&format!("x.toml: line {line}:")) && e.contains(what),
+            "{keys:?}: {e}"
+        );
+    }
+    // A second body: lines count from the top of the file.
+    let two = format!(
+        "[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\n\n{}",
+        body("colormap = \"viridis\"\nopacity = [[0.0, 0.5], [1.0, 2.0]]\n")
+    );
+    let e = parse_err(&two);
+    assert!(e.contains("x.toml: line 13:"), "{e}");
 }
 
 #[test]
@@ -134,35 +186,9 @@ fn the_issue_form_and_a_full_scene_parse() {
     }
 }
 
-/// A UV sphere with `n` segments around and `n / 2` rings, outward triangles.
+/// [`common::look::uv_sphere`] as a surface body (written as OBJ and read back).
 fn uv_sphere(c: [f64; 3], r: f64, n: usize) -> scene::TriSurface {
-    let rings = n / 2;
-    let mut pts = vec![[c[0], c[1], c[2] + r]];
-    for i in 1..rings {
-        let th = std::f64::consts::PI * i as f64 / rings as f64;
-        for j in 0..n {
-            let ph = 2.0 * std::f64::consts::PI * j as f64 / n as f64;
-            pts.push([
-                c[0] + r * th.sin() * ph.cos(),
-                c[1] + r * th.sin() * ph.sin(),
-                c[2] + r * th.cos(),
-            ]);
-        }
-    }
-    pts.push([c[0], c[1], c[2] - r]);
-    let south = (pts.len() - 1) as u32;
-    let id = |i: usize, j: usize| (1 + (i - 1) * n + j % n) as u32;
-    let mut tris = Vec::new();
-    for j in 0..n {
-        tris.push([0, id(1, j), id(1, j + 1)]);
-        tris.push([south, id(rings - 1, j + 1), id(rings - 1, j)]);
-    }
-    for i in 1..rings - 1 {
-        for j in 0..n {
-            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
+    let (pts, tris) = common::look::uv_sphere(c, r, n);
     let text: String = pts
         .iter()
         .map(|p| format!("v {} {} {}\n", p[0], p[1], p[2]))

@@ -18,7 +18,7 @@ use tetkit::render::integrate::Integration;
 use tetkit::render::prepare::{self, TableSize};
 use tetkit::render::pt::{self, View};
 use tetkit::render::raycast::RayCaster;
-use tetkit::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
+use tetkit::render::transfer::{named_colormap, TransferFunction};
 use tetkit::scene::{self, Scene};
 use tetkit::sort::{Direction, Method, Sorter};
 
@@ -39,18 +39,12 @@ fn base(m: &TetMesh) -> BaseLook {
 }
 
 fn tf(m: &TetMesh) -> TransferFunction {
-    TransferFunction::build(
-        &named_colormap("viridis").unwrap(),
-        Some(&OpacitySpec::parse("0:0.1,0.4:0.5,0.6:0.2,1:0.8").unwrap()),
+    common::look::viridis_tf(
+        "0:0.1,0.4:0.5,0.6:0.2,1:0.8",
         [0.0, 1.0],
         prepare::default_unit_distance(m),
         33,
     )
-    .unwrap()
-}
-
-fn field(m: &TetMesh) -> Field {
-    Field::Point(m.point_data.get("scalar").unwrap().data.to_f64_vec())
 }
 
 fn scene_of(text: &str, dir: &Path) -> Scene {
@@ -58,15 +52,7 @@ fn scene_of(text: &str, dir: &Path) -> Scene {
 }
 
 fn cam_of(m: &TetMesh, az: f64, el: f64, parallel: bool) -> Camera {
-    let mut cam = Camera {
-        parallel,
-        ..Camera::default()
-    };
-    cam.reset_to(&m.bounds());
-    cam.azimuth(az);
-    cam.elevation(el);
-    cam.zoom(1.2);
-    cam
+    common::look::orbit_camera(m, az, el, parallel, 1.2)
 }
 
 struct Ctx<'a> {
@@ -80,7 +66,7 @@ impl<'a> Ctx<'a> {
     fn new(m: &'a TetMesh) -> Ctx<'a> {
         Ctx {
             m,
-            f: field(m),
+            f: common::look::point_field(m),
             tf: tf(m),
             topo: Topology::build(&m.tets),
         }
@@ -225,24 +211,7 @@ fn box_cut_and_sphere_transfer_through_a_jittered_mesh() {
     let c = Ctx::new(&m);
     let dir = tempfile::tempdir().unwrap();
     // The paper's two-level opacity inside the sphere, a box cut through the middle.
-    let s = scene_of(
-        r#"
-[[body]]
-shape = "box"
-min = [0.3, -1.0, 0.55]
-max = [2.0, 0.62, 2.0]
-action = "cut"
-[[body]]
-shape = "sphere"
-center = [0.45, 0.5, 0.5]
-radius = 0.33
-action = "transfer"
-[body.transfer]
-colormap = "inferno"
-opacity = [[0.0, 0.07], [0.5, 0.07], [0.5, 0.93], [1.0, 0.93]]
-"#,
-        dir.path(),
-    );
+    let s = scene_of(&common::look::box_cut_and_two_level_sphere(0.3), dir.path());
     for (az, el, par) in [(30.0, 20.0, false), (-60.0, 35.0, true)] {
         let cam = cam_of(&m, az, el, par);
         let (_, reference) = pt_matches_reference(&c, &s, &cam, 56, "box + sphere");
@@ -381,35 +350,9 @@ fn touching_bodies_neither_leave_gaps_nor_count_twice() {
     assert!(d < 1e-6, "touching cuts: {d}");
 }
 
-/// A UV sphere with `n` segments around and `n / 2` rings, outward triangles, as ASCII STL.
+/// [`common::look::uv_sphere`] as ASCII STL.
 fn uv_sphere_stl(path: &Path, c: [f64; 3], r: f64, n: usize) {
-    let rings = n / 2;
-    let mut pts = vec![[c[0], c[1], c[2] + r]];
-    for i in 1..rings {
-        let th = std::f64::consts::PI * i as f64 / rings as f64;
-        for j in 0..n {
-            let ph = 2.0 * std::f64::consts::PI * j as f64 / n as f64;
-            pts.push([
-                c[0] + r * th.sin() * ph.cos(),
-                c[1] + r * th.sin() * ph.sin(),
-                c[2] + r * th.cos(),
-            ]);
-        }
-    }
-    pts.push([c[0], c[1], c[2] - r]);
-    let south = pts.len() - 1;
-    let id = |i: usize, j: usize| 1 + (i - 1) * n + j % n;
-    let mut tris = Vec::new();
-    for j in 0..n {
-        tris.push([0, id(1, j), id(1, j + 1)]);
-        tris.push([south, id(rings - 1, j + 1), id(rings - 1, j)]);
-    }
-    for i in 1..rings - 1 {
-        for j in 0..n {
-            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
+    let (pts, tris) = common::look::uv_sphere(c, r, n);
     // ASCII STL: every triangle repeats its corners (the reader welds them; `{}` prints each
     // coordinate so it reads back exactly).
     let mut text = String::from("solid sphere\n");
@@ -434,9 +377,7 @@ fn a_tessellated_sphere_converges_to_the_analytic_sphere() {
     let dir = tempfile::tempdir().unwrap();
     let cam = cam_of(&m, 20.0, 30.0, false);
     let n = 48;
-    let body = |shape: &str| {
-        format!("[[body]]\n{shape}\naction = \"transfer\"\n[body.transfer]\ncolormap = \"reds\"\nopacity = [[0.0, 0.95], [1.0, 0.95]]\n[[body]]\nshape = \"box\"\nmin = [0.5, -1.0, -1.0]\nmax = [2.0, 2.0, 2.0]\n")
-    };
+    let body = common::look::red_body_half_cut;
     let analytic = scene_of(
         &body("shape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.4"),
         dir.path(),
@@ -599,7 +540,8 @@ fn cli_empty_scene_is_no_scene_and_bodies_report_their_codes() {
     assert!(!ok);
     assert!(err.contains("bad.toml") && err.contains("line 5"), "{err}");
     assert!(!out.exists());
-    // A body's transfer function that cannot be built names the body's line.
+    // A body's transfer function that cannot be built names the offending key's line inside
+    // [body.transfer] (line 9), not the [[body]] line (3).
     std::fs::write(
         &bad,
         "# a scene\n\n[[body]]\nshape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.3\naction = \"transfer\"\n[body.transfer]\ncolormap = \"no-such-map\"\n",
@@ -615,7 +557,7 @@ fn cli_empty_scene_is_no_scene_and_bodies_report_their_codes() {
     ]);
     assert!(!ok);
     assert!(
-        err.contains("bad.toml: line 3") && err.contains("no-such-map"),
+        err.contains("bad.toml: line 9") && err.contains("no-such-map"),
         "{err}"
     );
     assert!(!out.exists());
@@ -716,9 +658,7 @@ for res in (8, 16, 32, 64):
     let c = Ctx::new(&m);
     let cam = cam_of(&m, 20.0, 30.0, false);
     let n = 48;
-    let body = |shape: &str| {
-        format!("[[body]]\n{shape}\naction = \"transfer\"\n[body.transfer]\ncolormap = \"reds\"\nopacity = [[0.0, 0.95], [1.0, 0.95]]\n[[body]]\nshape = \"box\"\nmin = [0.5, -1.0, -1.0]\nmax = [2.0, 2.0, 2.0]\n")
-    };
+    let body = common::look::red_body_half_cut;
     let analytic = scene_of(
         &body("shape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.4"),
         dir.path(),

@@ -26,8 +26,11 @@ pub struct CameraArgs {
     #[arg(long, value_name = "DEG")]
     pub view_angle: Option<f64>,
     /// Orthographic (parallel) projection.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "perspective")]
     pub parallel: bool,
+    /// Perspective projection even where --camera-file or a scene's `[camera]` says parallel.
+    #[arg(long)]
+    pub perspective: bool,
     /// Half the view height in world units for --parallel (default: fits the bounds).
     #[arg(long, value_name = "S")]
     pub parallel_scale: Option<f64>,
@@ -91,6 +94,9 @@ impl CameraArgs {
         }
         if self.parallel {
             cam.parallel = true;
+        }
+        if self.perspective {
+            cam.parallel = false;
         }
         if let Some(up) = self.up {
             cam.up = up;

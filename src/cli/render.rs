@@ -221,6 +221,16 @@ impl Progress {
         }
     }
 
+    /// Clears the bar, then prints the summary lines on stderr unless `quiet`.
+    pub fn finish_with(&self, quiet: bool, summary: Vec<String>) {
+        self.finish();
+        if !quiet {
+            for line in summary {
+                eprintln!("{line}");
+            }
+        }
+    }
+
     pub fn finish(&self) {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
@@ -340,6 +350,22 @@ impl Session {
             read_s: t0.elapsed().as_secs_f64(),
             schedule: look.pt_schedule,
         })
+    }
+
+    /// The ray caster's face adjacency, which the caster borrows (so the caller keeps it).
+    pub fn topology(&self) -> Topology {
+        Topology::build(&self.mesh.tets)
+    }
+
+    /// The ray caster (entry and locator grids) over this session's mesh and field.
+    pub fn raycaster<'a>(&'a self, topo: &'a Topology) -> RayCaster<'a> {
+        RayCaster::new(
+            &self.mesh.points,
+            &self.mesh.tets,
+            &self.field,
+            topo,
+            GridParams::default(),
+        )
     }
 
     pub fn bounds_camera(&self, args: &CameraArgs) -> Result<Camera> {
@@ -463,8 +489,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             }
             let cpu_frames = if gpu.is_some() { 0 } else { frames };
             for i in 0..cpu_frames {
-                let mut cam = cam0;
-                cam.azimuth(step * i as f64);
+                let cam = orbit_camera(&cam0, step, i);
                 let t = Instant::now();
                 let (order, sort_s) =
                     order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
@@ -492,14 +517,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             if args.device == DeviceChoice::Gpu {
                 bail!("--method raycast runs on the CPU only (--device gpu draws projected tetrahedra)");
             }
-            let topo = Topology::build(&session.mesh.tets);
-            let rc = RayCaster::new(
-                &session.mesh.points,
-                &session.mesh.tets,
-                &session.field,
-                &topo,
-                GridParams::default(),
-            );
+            let topo = session.topology();
+            let rc = session.raycaster(&topo);
             let table = (args.ray_integration == RayIntegration::Preintegrated).then(|| {
                 PreintTable::build(
                     &session.tf,
@@ -525,8 +544,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 l.depth
             ));
             for i in 0..frames {
-                let mut cam = cam0;
-                cam.azimuth(step * i as f64);
+                let cam = orbit_camera(&cam0, step, i);
                 let t = Instant::now();
                 let (img, st) = match &table {
                     None => rc.render(&session.tf, &cam, w, h),
@@ -548,12 +566,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             }
         }
     }
-    progress.finish();
-    if !look.quiet {
-        for line in summary {
-            eprintln!("{line}");
-        }
-    }
+    progress.finish_with(look.quiet, summary);
     if args.json {
         // No bodies: one region (code 0), nothing merged, the plain path.
         let report = serde_json::json!({
@@ -564,6 +577,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     }
     Ok(())
+}
+
+/// Frame `i` of an orbit: `cam0` turned `step * i` degrees about the focal point.
+pub fn orbit_camera(cam0: &Camera, step: f64, i: usize) -> Camera {
+    let mut cam = *cam0;
+    cam.azimuth(step * i as f64);
+    cam
 }
 
 /// One PT frame.

@@ -124,8 +124,7 @@ pub fn scene_gpu(
     ];
     let mut reports = Vec::new();
     for i in 0..frames {
-        let mut cam = cam0;
-        cam.azimuth(step * i as f64);
+        let cam = super::render::orbit_camera(&cam0, step, i);
         let t = Instant::now();
         let (order, sort_s) = order_for(sorter.as_ref(), m.tets.len(), &cam, args.sort);
         let view = View::new(&cam, w, h);
@@ -174,8 +173,7 @@ pub fn gpu_frames(
     let mut lines = vec![format!("GPU: {}", gpu.context().describe())];
     let mut frame_times = Vec::new();
     for i in 0..job.frames {
-        let mut cam = job.cam0;
-        cam.azimuth(job.step * i as f64);
+        let cam = super::render::orbit_camera(&job.cam0, job.step, i);
         let t = Instant::now();
         let (order, sort_s) = order_for(job.sorter, job.ntets, &cam, job.sort);
         let view = View::new(&cam, job.size.0, job.size.1);

@@ -6,17 +6,15 @@ use std::time::Instant;
 
 use super::camera_args::CameraArgs;
 use super::render::{
-    frame_path, order_for, MethodChoice, Progress, RenderArgs, Session, SortChoice,
+    frame_path, orbit_camera, order_for, MethodChoice, Progress, RenderArgs, Session, SortChoice,
 };
 use crate::camera::Camera;
-use crate::locate::{GridParams, Topology};
 use crate::render::cut::{self, RegionReport, SceneLook, ShaderCache};
 use crate::render::pt::View;
-use crate::render::raycast::RayCaster;
 use crate::scene::Scene;
 
 /// The command line's camera options with the scene's filling what they leave unset (so every
-/// option given on the command line wins).
+/// option given on the command line wins; `--perspective` turns off a scene's `parallel = true`).
 pub fn camera_args(cli: &CameraArgs, scene: &Scene) -> CameraArgs {
     let c = &scene.camera;
     let mut a = cli.clone();
@@ -24,7 +22,7 @@ pub fn camera_args(cli: &CameraArgs, scene: &Scene) -> CameraArgs {
     a.focal = a.focal.or(c.focal);
     a.up = a.up.or(c.up);
     a.view_angle = a.view_angle.or(c.view_angle);
-    a.parallel = a.parallel || c.parallel == Some(true);
+    a.parallel = !a.perspective && (a.parallel || c.parallel == Some(true));
     a.parallel_scale = a.parallel_scale.or(c.parallel_scale);
     a
 }
@@ -82,8 +80,7 @@ pub fn run(
             ));
             progress.step("setup");
             for i in 0..frames {
-                let mut cam = cam0;
-                cam.azimuth(step * i as f64);
+                let cam = orbit_camera(&cam0, step, i);
                 let t = Instant::now();
                 let (order, sort_s) =
                     order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
@@ -120,22 +117,15 @@ pub fn run(
             }
         }
         MethodChoice::Raycast => {
-            let topo = Topology::build(&session.mesh.tets);
-            let rc = RayCaster::new(
-                &session.mesh.points,
-                &session.mesh.tets,
-                &session.field,
-                &topo,
-                GridParams::default(),
-            );
+            let topo = session.topology();
+            let rc = session.raycaster(&topo);
             summary.push(format!(
                 "setup (adjacency, grids) {:.3} s",
                 t_setup.elapsed().as_secs_f64()
             ));
             progress.step("setup");
             for i in 0..frames {
-                let mut cam = cam0;
-                cam.azimuth(step * i as f64);
+                let cam = orbit_camera(&cam0, step, i);
                 let t = Instant::now();
                 let (img, st, rep) = cut::raycast(&rc, &sl, &cam, w, h);
                 let frame_s = t.elapsed().as_secs_f64();
@@ -160,12 +150,7 @@ pub fn run(
             }
         }
     }
-    progress.finish();
-    if !look.quiet {
-        for line in summary {
-            eprintln!("{line}");
-        }
-    }
+    progress.finish_with(look.quiet, summary);
     if args.json {
         let bodies: Vec<serde_json::Value> = scene
             .bodies
@@ -193,4 +178,48 @@ pub fn run(
         println!("{}", serde_json::to_string_pretty(&report)?);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Aabb;
+    use std::path::Path;
+
+    #[test]
+    fn perspective_overrides_a_parallel_scene() {
+        let s = crate::scene::parse(
+            "[camera]\nparallel = true\nparallel_scale = 0.5\n",
+            Path::new("s.toml"),
+        )
+        .unwrap();
+        let bounds = Aabb {
+            min: [0.0; 3],
+            max: [1.0; 3],
+        };
+        let from_scene = camera_args(&CameraArgs::default(), &s)
+            .camera(&bounds)
+            .unwrap();
+        assert!(from_scene.parallel);
+        assert_eq!(from_scene.parallel_scale, 0.5);
+        let cli = CameraArgs {
+            perspective: true,
+            ..CameraArgs::default()
+        };
+        let persp = camera_args(&cli, &s).camera(&bounds).unwrap();
+        assert!(!persp.parallel);
+        // A plain scene stays perspective unless --parallel asks.
+        let plain = crate::scene::parse("", Path::new("s.toml")).unwrap();
+        assert!(
+            !camera_args(&CameraArgs::default(), &plain)
+                .camera(&bounds)
+                .unwrap()
+                .parallel
+        );
+        let par = CameraArgs {
+            parallel: true,
+            ..CameraArgs::default()
+        };
+        assert!(camera_args(&par, &plain).camera(&bounds).unwrap().parallel);
+    }
 }

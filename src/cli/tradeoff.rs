@@ -8,11 +8,9 @@ use std::time::Instant;
 
 use super::camera_args::CameraArgs;
 use super::render::{order_for, pt_frame, LookArgs, Progress, Session, SortChoice};
-use crate::locate::{GridParams, Topology};
 use crate::render::integrate::Integration;
 use crate::render::plot::{tradeoff_plot, PlotPoint};
 use crate::render::prepare;
-use crate::render::raycast::RayCaster;
 
 #[derive(Args, Debug)]
 pub struct TradeoffArgs {
@@ -65,14 +63,8 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
 
     // The reference.
     let t = Instant::now();
-    let topo = Topology::build(&session.mesh.tets);
-    let rc = RayCaster::new(
-        &session.mesh.points,
-        &session.mesh.tets,
-        &session.field,
-        &topo,
-        GridParams::default(),
-    );
+    let topo = session.topology();
+    let rc = session.raycaster(&topo);
     let rc_setup = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let (reference, _) = rc.render(&session.tf, &cam, w, h);

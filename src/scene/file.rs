@@ -33,12 +33,11 @@ struct RawCamera {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawTransfer {
-    colormap: Option<String>,
+    colormap: Option<Spanned<String>>,
     preset: Option<Spanned<String>>,
-    #[serde(default)]
-    opacity: Vec<[f64; 2]>,
-    range: Option<[f64; 2]>,
-    unit_distance: Option<f64>,
+    opacity: Option<Spanned<Vec<[f64; 2]>>>,
+    range: Option<Spanned<[f64; 2]>>,
+    unit_distance: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq, Debug)]
@@ -154,24 +153,18 @@ fn camera(c: RawCamera, at: &At, pos: usize) -> Result<CameraSpec, FormatError> 
             ));
         }
     }
-    if let Some(a) = &c.view_angle {
-        let v = *a.get_ref();
-        if !(v > 0.0 && v < 180.0) {
-            return Err(at(
-                a.span().start,
-                format!("view_angle = {v}: must lie in (0, 180) degrees"),
-            ));
-        }
-    }
-    if let Some(s) = &c.parallel_scale {
-        let v = *s.get_ref();
-        if !(v > 0.0 && v.is_finite()) {
-            return Err(at(
-                s.span().start,
-                format!("parallel_scale = {v}: must be positive"),
-            ));
-        }
-    }
+    check_key(
+        at,
+        &c.view_angle,
+        |v| v > 0.0 && v < 180.0,
+        |v| format!("view_angle = {v}: must lie in (0, 180) degrees"),
+    )?;
+    check_key(
+        at,
+        &c.parallel_scale,
+        |v| v > 0.0 && v.is_finite(),
+        |v| format!("parallel_scale = {v}: must be positive"),
+    )?;
     Ok(CameraSpec {
         position: c.position,
         focal: c.focal,
@@ -182,35 +175,64 @@ fn camera(c: RawCamera, at: &At, pos: usize) -> Result<CameraSpec, FormatError> 
     })
 }
 
-fn transfer(t: RawTransfer, dir: &Path, at: &At, pos: usize) -> Result<TransferSpec, FormatError> {
-    if t.colormap.is_some() && t.preset.is_some() {
-        return Err(at(pos, "give a colormap or a preset, not both".into()));
+/// An error at the key's line when a given value fails `ok`.
+fn check_key<T: Copy>(
+    at: &At,
+    key: &Option<Spanned<T>>,
+    ok: impl Fn(T) -> bool,
+    msg: impl Fn(T) -> String,
+) -> Result<(), FormatError> {
+    match key {
+        Some(k) if !ok(*k.get_ref()) => Err(at(k.span().start, msg(*k.get_ref()))),
+        _ => Ok(()),
     }
+}
+
+/// Checks a transfer table. Errors point at the offending key's line (a table's own span is
+/// its header's, or for `[body.transfer]` the enclosing `[[body]]`'s); `pos` (the table) only
+/// where no key is to blame. Colormap names and preset files are checked here, so that a bad
+/// one is reported with its line rather than when a renderer first builds the function.
+fn transfer(t: RawTransfer, dir: &Path, at: &At, pos: usize) -> Result<TransferSpec, FormatError> {
+    let key = |v: Option<usize>| v.unwrap_or(pos);
+    if let (Some(_), Some(p)) = (&t.colormap, &t.preset) {
+        return Err(at(
+            p.span().start,
+            "give a colormap or a preset, not both".into(),
+        ));
+    }
+    let opacity_at = key(t.opacity.as_ref().map(|o| o.span().start));
+    let opacity = t.opacity.map(Spanned::into_inner).unwrap_or_default();
     let mut prev = f64::NEG_INFINITY;
-    for p in &t.opacity {
+    for p in &opacity {
         if !p[0].is_finite() || !(0.0..=1.0).contains(&p[1]) {
             return Err(at(
-                pos,
+                opacity_at,
                 format!("opacity point {p:?}: the scalar must be finite and the opacity in [0, 1]"),
             ));
         }
         if p[0] < prev {
             return Err(at(
-                pos,
+                opacity_at,
                 format!("opacity point {p:?}: scalars must not decrease"),
             ));
         }
         prev = p[0];
     }
-    if let Some(r) = t.range {
-        if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
-            return Err(at(pos, format!("range = {r:?}: need finite min < max")));
-        }
-    }
-    if let Some(u) = t.unit_distance {
-        if !(u > 0.0 && u.is_finite()) {
-            return Err(at(pos, format!("unit_distance = {u}: must be positive")));
-        }
+    check_key(
+        at,
+        &t.range,
+        |v| v[0].is_finite() && v[1].is_finite() && v[0] < v[1],
+        |v| format!("range = {v:?}: need finite min < max"),
+    )?;
+    check_key(
+        at,
+        &t.unit_distance,
+        |v| v > 0.0 && v.is_finite(),
+        |v| format!("unit_distance = {v}: must be positive"),
+    )?;
+    if let Some(c) = &t.colormap {
+        crate::render::transfer::named_colormap(c.get_ref())
+            .map_err(|e| at(c.span().start, format!("{e:#}")))?;
     }
     let preset = match t.preset {
         Some(p) => {
@@ -221,16 +243,18 @@ fn transfer(t: RawTransfer, dir: &Path, at: &At, pos: usize) -> Result<TransferS
                     format!("preset file {} not found", full.display()),
                 ));
             }
+            crate::render::transfer::read_preset(&full)
+                .map_err(|e| at(p.span().start, format!("preset: {e:#}")))?;
             Some(full)
         }
         None => None,
     };
     Ok(TransferSpec {
-        colormap: t.colormap,
+        colormap: t.colormap.map(Spanned::into_inner),
         preset,
-        opacity: t.opacity,
-        range: t.range,
-        unit_distance: t.unit_distance,
+        opacity,
+        range: t.range.map(Spanned::into_inner),
+        unit_distance: t.unit_distance.map(Spanned::into_inner),
     })
 }
 

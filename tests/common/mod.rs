@@ -6,6 +6,8 @@
 //! which case it fails.
 #![allow(dead_code)]
 
+pub mod look;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
