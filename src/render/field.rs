@@ -103,7 +103,13 @@ impl Field {
     #[inline]
     pub fn at(&self, t: usize, tet: &[u32; 4]) -> [f64; 4] {
         match self {
-            Field::Point(v) => tet.map(|i| v[i as usize]),
+            // Explicit, not `tet.map`: a map whose closure may panic compiles to slower code.
+            Field::Point(v) => [
+                v[tet[0] as usize],
+                v[tet[1] as usize],
+                v[tet[2] as usize],
+                v[tet[3] as usize],
+            ],
             Field::Cell(v) => [v[t]; 4],
         }
     }

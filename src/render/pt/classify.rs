@@ -28,7 +28,8 @@ pub(crate) fn orient2(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> i64 {
 /// Projected signed areas of the four faces (twice the area, 1/256-pixel units squared).
 #[inline]
 pub fn face_areas(p: &[(i64, i64); 4]) -> [i64; 4] {
-    FACES.map(|f| orient2(p[f[0]], p[f[1]], p[f[2]]))
+    let a = |f: [usize; 3]| orient2(p[f[0]], p[f[1]], p[f[2]]);
+    [a(FACES[0]), a(FACES[1]), a(FACES[2]), a(FACES[3])]
 }
 
 pub fn classify(d: &[i64; 4]) -> ProjClass {

@@ -192,7 +192,8 @@ pub(crate) fn setup_tet(
     let (ox, oy) = (pv[0].px, pv[0].py);
     // Which sign group faces the eye: decided in 3-D on the face with the largest projection.
     let big = (0..4).max_by_key(|&i| d[i].abs()).unwrap_or(0);
-    let fv = FACES[big].map(|k| pv[k].view);
+    let fb = FACES[big];
+    let fv = [pv[fb[0]].view, pv[fb[1]].view, pv[fb[2]].view];
     let sub = |a: [f64; 3], b: [f64; 3]| geom::sub(&a, &b);
     let cr = |a: [f64; 3], b: [f64; 3]| geom::cross(&a, &b);
     let dt = |a: [f64; 3], b: [f64; 3]| geom::dot(&a, &b);
@@ -209,8 +210,9 @@ pub(crate) fn setup_tet(
         if d[i] == 0 {
             continue;
         }
-        let pts = f.map(|k| (pv[k].px, pv[k].py));
-        let vals = f.map(|k| w(pv[k]) - w0);
+        let (p0, p1, p2) = (pv[f[0]], pv[f[1]], pv[f[2]]);
+        let pts = [(p0.px, p0.py), (p1.px, p1.py), (p2.px, p2.py)];
+        let vals = [w(p0) - w0, w(p1) - w0, w(p2) - w0];
         let Some(pl) = plane_fit(pts, vals, ox, oy) else {
             continue;
         };
@@ -233,12 +235,17 @@ pub(crate) fn setup_tet(
     }
 
     // Scalar gradient in view coordinates.
-    let e = [1, 2, 3].map(|k| sub(pv[k].view, pv[0].view));
-    let ds = [1, 2, 3].map(|k| s[k] - s[0]);
+    let e = [
+        sub(pv[1].view, pv[0].view),
+        sub(pv[2].view, pv[0].view),
+        sub(pv[3].view, pv[0].view),
+    ];
+    let ds = [s[1] - s[0], s[2] - s[0], s[3] - s[0]];
     let det = dt(e[0], cr(e[1], e[2]));
     let g = if det != 0.0 && det.is_finite() {
         let (c0, c1, c2) = (cr(e[1], e[2]), cr(e[2], e[0]), cr(e[0], e[1]));
-        [0, 1, 2].map(|a| (ds[0] * c0[a] + ds[1] * c1[a] + ds[2] * c2[a]) / det)
+        let ga = |a: usize| (ds[0] * c0[a] + ds[1] * c1[a] + ds[2] * c2[a]) / det;
+        [ga(0), ga(1), ga(2)]
     } else {
         [0.0; 3]
     };

@@ -45,10 +45,18 @@ impl Shader {
     ) -> (u64, usize) {
         match self {
             Shader::Pre(tab) => raster(setup, parallel, tile, buf, stretch, w, tab),
-            Shader::Average(tf) => {
-                raster(setup, parallel, tile, buf, stretch, w, &AverageShade(tf))
+            Shader::Average(tf) => raster(
+                setup,
+                parallel,
+                tile,
+                buf,
+                stretch,
+                w,
+                &TfShade::<false>(tf),
+            ),
+            Shader::Linear(tf) => {
+                raster(setup, parallel, tile, buf, stretch, w, &TfShade::<true>(tf))
             }
-            Shader::Linear(tf) => raster(setup, parallel, tile, buf, stretch, w, &LinearShade(tf)),
         }
     }
 }
@@ -110,12 +118,11 @@ impl Shade for PreintTable {
     }
 }
 
-/// VTK's averaged integration ([`FastTf::average`]) as a [`Shade`].
-struct AverageShade<'a>(pub(crate) &'a FastTf);
-/// Linear integration ([`FastTf::linear`]) as a [`Shade`].
-struct LinearShade<'a>(pub(crate) &'a FastTf);
+/// A transfer function evaluated at both ends of each fragment as a [`Shade`]: VTK's averaged
+/// integration ([`FastTf::average`]), or linear integration ([`FastTf::linear`]) when `LINEAR`.
+struct TfShade<'a, const LINEAR: bool>(&'a FastTf);
 
-impl Shade for AverageShade<'_> {
+impl<const LINEAR: bool> Shade for TfShade<'_, LINEAR> {
     type Prep = Lanes;
     #[inline(always)]
     fn prep(&self, f: &Lanes) -> Lanes {
@@ -123,18 +130,10 @@ impl Shade for AverageShade<'_> {
     }
     #[inline(always)]
     fn at(&self, f: &Lanes, i: usize) -> [f32; 4] {
-        self.0.average(f[0][i], f[1][i], f[2][i])
-    }
-}
-
-impl Shade for LinearShade<'_> {
-    type Prep = Lanes;
-    #[inline(always)]
-    fn prep(&self, f: &Lanes) -> Lanes {
-        *f
-    }
-    #[inline(always)]
-    fn at(&self, f: &Lanes, i: usize) -> [f32; 4] {
-        self.0.linear(f[0][i], f[1][i], f[2][i])
+        if LINEAR {
+            self.0.linear(f[0][i], f[1][i], f[2][i])
+        } else {
+            self.0.average(f[0][i], f[1][i], f[2][i])
+        }
     }
 }

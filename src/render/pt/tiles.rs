@@ -41,7 +41,13 @@ impl Frame<'_> {
     #[inline(always)]
     pub(crate) fn prepare(&self, t: u32, st: &mut PtStats) -> Option<(Prepared, PixelBox)> {
         let tet = &self.tets[t as usize];
-        let pv = tet.map(|v| &self.proj[v as usize]);
+        let pr = self.proj;
+        let pv = [
+            &pr[tet[0] as usize],
+            &pr[tet[1] as usize],
+            &pr[tet[2] as usize],
+            &pr[tet[3] as usize],
+        ];
         let s = self.field.at(t as usize, tet);
         let (kind, b) = if pv.iter().any(|p| !p.ok) {
             st.clipped += 1;
