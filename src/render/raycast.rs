@@ -419,6 +419,48 @@ mod tests {
     }
 
     #[test]
+    fn rays_through_vertices_and_edges_are_not_lost() {
+        // A 2x2x2 grid on the unit cube: rays along grid lines (through vertices and edges of
+        // many tets, in faces shared by several), along face diagonals through interior
+        // vertices, and the main diagonal entering at a corner. Each must walk through (no lost
+        // walk, no re-entry) and give what a ray 1e-9 beside it gives (the integral is
+        // continuous in the ray), which the brute force checks (the brute force itself would
+        // count a ray lying in a shared face once per tet).
+        let m = structured_grid([2, 2, 2], [0.0; 3], [1.0; 3]);
+        let s = m.point_data.get("scalar").unwrap().data.to_f64_vec();
+        let field = Field::Point(s.clone());
+        let topo = Topology::build(&m.tets);
+        let rc = RayCaster::new(&m.points, &m.tets, &field, &topo, GridParams::default());
+        let tf = tf([0.0, 1.0]);
+        let r2 = 0.5f64.sqrt();
+        let r3 = (1.0f64 / 3.0).sqrt();
+        for (o, d) in [
+            ([-1.0, 0.5, 0.5], [1.0, 0.0, 0.0]),
+            ([0.5, -1.0, 0.5], [0.0, 1.0, 0.0]),
+            ([0.5, 0.5, 2.0], [0.0, 0.0, -1.0]),
+            ([-1.0, 0.0, 0.5], [1.0, 0.0, 0.0]),
+            ([-0.5, -0.5, 0.5], [r2, r2, 0.0]),
+            ([0.5, -0.5, -0.5], [0.0, r2, r2]),
+            ([-1.0, -1.0, -1.0], [r3, r3, r3]),
+            ([2.0, 2.0, 2.0], [-r3, -r3, -r3]),
+        ] {
+            let mut st = RayStats::default();
+            let a = rc.trace(&tf, &o, &d, &mut st);
+            assert_eq!((st.lost, st.reentries), (0, 0), "{o:?} {d:?}: {st:?}");
+            // Beside it, inside the mesh's side of the corner and edge rays.
+            let ob = [o[0] + 1.3e-9, o[1] + 0.7e-9, o[2] + 1.1e-9];
+            let mut st = RayStats::default();
+            let b = rc.trace(&tf, &ob, &d, &mut st);
+            let c = brute(&m.points, &m.tets, &s, &tf, &ob, &d);
+            assert!(c[3] > 0.1, "{o:?} {d:?} misses the mesh");
+            for k in 0..4 {
+                assert!((a[k] - b[k]).abs() < 1e-6, "{o:?} {d:?}: {a:?} vs {b:?}");
+                assert!((b[k] - c[k]).abs() < 1e-5, "{o:?} {d:?}: {b:?} vs {c:?}");
+            }
+        }
+    }
+
+    #[test]
     fn eye_inside_the_mesh() {
         let m = structured_grid([2, 2, 2], [0.0; 3], [1.0; 3]);
         let cam = Camera {
