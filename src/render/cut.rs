@@ -420,6 +420,59 @@ struct SplitStats {
     pieces: u64,
 }
 
+/// Walks one pixel's segment `[zf, zb]` through its crossings (`depth(i)` and code `cs[i]`,
+/// front to back; `start` the code where the ray starts) and calls `emit(a, b, shader)` for
+/// each piece that is drawn: pieces run between changes of shader, so a crossing between two
+/// codes with the same transfer function splits nothing and touching bodies leave no seam.
+/// Returns the number of pieces, cut ones included.
+#[inline(always)]
+fn pieces<T: Copy + PartialOrd>(
+    zf: T,
+    zb: T,
+    start: u8,
+    cs: &[u8],
+    depth: impl Fn(usize) -> T,
+    slots: &[u16; 256],
+    mut emit: impl FnMut(T, T, u16),
+) -> u64 {
+    let mut i = 0;
+    while i < cs.len() && depth(i) <= zf {
+        i += 1;
+    }
+    let code = if i == 0 { start } else { cs[i - 1] };
+    let mut cur = slots[code as usize];
+    let (mut a, mut n) = (zf, 0u64);
+    let mut piece = |a: T, b: T, k: u16| {
+        n += 1;
+        if k != CUT {
+            emit(a, b, k);
+        }
+    };
+    while i < cs.len() && depth(i) < zb {
+        let zc = depth(i);
+        let next = slots[cs[i] as usize];
+        if next != cur {
+            if zc > a {
+                piece(a, zc, cur);
+                a = zc;
+            }
+            cur = next;
+        }
+        i += 1;
+    }
+    piece(a, zb, cur);
+    n
+}
+
+/// Front-to-back "over" of a premultiplied colour onto a pixel.
+#[inline(always)]
+fn composite(slot: &mut [f32; 4], c: [f32; 4]) {
+    let k = 1.0 - slot[3];
+    for ch in 0..4 {
+        slot[ch] += k * c[ch];
+    }
+}
+
 /// Rasterizes one tet, splitting each pixel's fragment at that pixel's crossings; `z0` is the
 /// view depth of the tet's vertex 0 (fragment depths are relative to it).
 #[allow(clippy::too_many_arguments)]
@@ -475,44 +528,19 @@ fn raster_split(
             let (lo, hi) = (reg.off[p] as usize, reg.off[p + 1] as usize);
             let zs = &reg.z[lo..hi];
             let cs = &reg.codes[lo..hi];
-            let rel = |i: usize| (zs[i] - z0) as f32;
-            let mut i = 0;
-            while i < zs.len() && rel(i) <= zf {
-                i += 1;
-            }
-            let code = if i == 0 { reg.start[p] } else { cs[i - 1] };
-            // Pieces run between changes of shader (a crossing between two codes with the same
-            // transfer function splits nothing, so touching bodies leave no seam).
-            let mut cur = slots[code as usize];
-            let mut a = zf;
-            let mut n = 0u64;
-            let mut emit = |a: f32, b: f32, k: u16, slot: &mut [f32; 4]| {
-                n += 1;
-                if k == CUT {
-                    return;
-                }
-                let sa = (sref + a * h).clamp(t.smin, t.smax);
-                let sb = (sref + b * h).clamp(t.smin, t.smax);
-                let c = shaders[k as usize].shade(sa, sb, (b - a) * stl);
-                let kk = 1.0 - slot[3];
-                slot[0] += kk * c[0];
-                slot[1] += kk * c[1];
-                slot[2] += kk * c[2];
-                slot[3] += kk * c[3];
-            };
-            while i < zs.len() && rel(i) < zb {
-                let zc = rel(i);
-                let next = slots[cs[i] as usize];
-                if next != cur {
-                    if zc > a {
-                        emit(a, zc, cur, slot);
-                        a = zc;
-                    }
-                    cur = next;
-                }
-                i += 1;
-            }
-            emit(a, zb, cur, slot);
+            let n = pieces(
+                zf,
+                zb,
+                reg.start[p],
+                cs,
+                |i| (zs[i] - z0) as f32,
+                slots,
+                |a, b, k| {
+                    let sa = (sref + a * h).clamp(t.smin, t.smax);
+                    let sb = (sref + b * h).clamp(t.smin, t.smax);
+                    composite(slot, shaders[k as usize].shade(sa, sb, (b - a) * stl));
+                },
+            );
             if n > 1 {
                 st.split += 1;
                 st.pieces += n;
@@ -558,34 +586,19 @@ fn clip_split(
             let len = dot(&rb, &rb).sqrt();
             let (lo, hi) = (reg.off[p] as usize, reg.off[p + 1] as usize);
             let (zs, cs) = (&reg.z[lo..hi], &reg.codes[lo..hi]);
-            let mut i = zs.partition_point(|&z| z <= zf);
-            let code = if i == 0 { reg.start[p] } else { cs[i - 1] };
-            let mut cur = slots[code as usize];
-            let (mut a, mut n) = (zf, 0u64);
-            let mut emit = |a: f64, z: f64, k: u16, slot: &mut [f32; 4]| {
-                n += 1;
-                if k == CUT {
-                    return;
-                }
-                let (sa, sb) = (c.scalar(ra, rb, a), c.scalar(ra, rb, z));
-                let col = shaders[k as usize].shade(sa as f32, sb as f32, ((z - a) * len) as f32);
-                let kk = 1.0 - slot[3];
-                for ch in 0..4 {
-                    slot[ch] += kk * col[ch];
-                }
-            };
-            while i < zs.len() && zs[i] < zb {
-                let next = slots[cs[i] as usize];
-                if next != cur {
-                    if zs[i] > a {
-                        emit(a, zs[i], cur, slot);
-                        a = zs[i];
-                    }
-                    cur = next;
-                }
-                i += 1;
-            }
-            emit(a, zb, cur, slot);
+            let n = pieces(
+                zf,
+                zb,
+                reg.start[p],
+                cs,
+                |i| zs[i],
+                slots,
+                |a, z, k| {
+                    let (sa, sb) = (c.scalar(ra, rb, a), c.scalar(ra, rb, z));
+                    let l = ((z - a) * len) as f32;
+                    composite(slot, shaders[k as usize].shade(sa as f32, sb as f32, l));
+                },
+            );
             if n > 1 {
                 st.split += 1;
                 st.pieces += n;
