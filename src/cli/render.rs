@@ -460,21 +460,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             let t_table = Instant::now();
             let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
             let table_s = t_table.elapsed().as_secs_f64();
-            let m = &session.mesh;
-            let mut gpu = open_gpu(
-                args.device,
-                &m.points,
-                &m.tets,
-                &session.field,
-                &shader,
-                look.quiet,
-            )?;
+            let mut gpu = open_gpu(args.device, &session, &shader, look.quiet)?;
             let setup = t_setup.elapsed().as_secs_f64();
             progress.step("setup");
             if let Some(gpu) = gpu.as_mut() {
                 let job = GpuFrames {
                     sorter: sorter.as_ref(),
-                    ntets: m.tets.len(),
+                    ntets: session.mesh.tets.len(),
                     sort: args.sort,
                     cam0,
                     step,

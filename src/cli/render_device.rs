@@ -28,9 +28,7 @@ pub enum DeviceChoice {
 /// with one line on stderr when no adapter is found or the mesh does not fit the device.
 pub fn open_gpu(
     device: DeviceChoice,
-    points: &[[f64; 3]],
-    tets: &[[u32; 4]],
-    field: &crate::render::field::Field,
+    session: &Session,
     shader: &Shader,
     quiet: bool,
 ) -> Result<Option<GpuRenderer>> {
@@ -44,7 +42,8 @@ pub fn open_gpu(
                 ctx.info.name
             );
         }
-        GpuRenderer::new(ctx, points, tets, field, shader)
+        let m = &session.mesh;
+        GpuRenderer::new(ctx, &m.points, &m.tets, &session.field, shader)
     });
     match (made, device) {
         (Ok(r), _) => Ok(Some(r)),
@@ -88,18 +87,10 @@ pub fn scene_gpu(
         _ => {}
     }
     let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
-    let m = &session.mesh;
-    let Some(mut gpu) = open_gpu(
-        args.device,
-        &m.points,
-        &m.tets,
-        &session.field,
-        &shader,
-        look.quiet,
-    )?
-    else {
+    let Some(mut gpu) = open_gpu(args.device, session, &shader, look.quiet)? else {
         return Ok(false);
     };
+    let m = &session.mesh;
     let mut sl = SceneLook::new(scene, &session.tf, &session.base)?;
     sl.culling = !args.no_culling;
     let sorter = match args.sort {

@@ -7,7 +7,7 @@ use wgpu::util::DeviceExt;
 use super::context::GpuContext;
 use super::pipelines::{Pipelines, INDICES_PER_TET, WORKGROUP};
 use super::readback::{map_read, Target};
-use super::resources::{MeshBuffers, ShadeResources};
+use super::resources::{sampled_texture, MeshBuffers, ShadeResources};
 use super::scene::{crossings, SceneTables};
 use crate::camera::Camera;
 use crate::render::cut::SceneLook;
@@ -107,21 +107,8 @@ impl GpuRenderer {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let bind = |layout: &wgpu::BindGroupLayout, label: &str, res: &[wgpu::BindingResource]| {
-            let entries: Vec<wgpu::BindGroupEntry> = res
-                .iter()
-                .enumerate()
-                .map(|(i, r)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: r.clone(),
-                })
-                .collect();
-            dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout,
-                entries: &entries,
-            })
-        };
+        let bind =
+            |layout, label, res: &[wgpu::BindingResource]| bind_group(dev, layout, label, res);
         let classify_bg = bind(
             &pipes.classify_layout,
             "classify",
@@ -226,30 +213,14 @@ impl GpuRenderer {
             height: view.height,
             depth_or_array_layers: cr.layers,
         };
-        let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("body crossings"),
+        let tex = sampled_texture(
+            ctx,
+            "body crossings",
             size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rg32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        ctx.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &tex,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
+            wgpu::TextureDimension::D2,
+            wgpu::TextureFormat::Rg32Float,
             bytemuck::cast_slice(&cr.texels),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(view.width * 8),
-                rows_per_image: Some(view.height),
-            },
-            size,
+            view.width * 8,
         );
         let tex_view = tex.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -272,19 +243,12 @@ impl GpuRenderer {
             wgpu::BindingResource::TextureView(&tex_view),
             slot_buf.as_entire_binding(),
         ];
-        let entries: Vec<wgpu::BindGroupEntry> = res
-            .iter()
-            .enumerate()
-            .map(|(i, r)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: r.clone(),
-            })
-            .collect();
-        let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("draw scene"),
-            layout: &self.pipes.draw_scene_layout,
-            entries: &entries,
-        });
+        let bg = bind_group(
+            &ctx.device,
+            &self.pipes.draw_scene_layout,
+            "draw scene",
+            &res,
+        );
         let crossings_s = t0.elapsed().as_secs_f64();
         let (img, stats, times) = self.frame(view, order, Some(&bg))?;
         Ok((
@@ -464,4 +428,26 @@ impl GpuRenderer {
             },
         ))
     }
+}
+
+/// A bind group whose entries are `res` at bindings 0, 1, 2, ... in order.
+fn bind_group(
+    dev: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    label: &str,
+    res: &[wgpu::BindingResource],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = res
+        .iter()
+        .enumerate()
+        .map(|(i, r)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: r.clone(),
+        })
+        .collect();
+    dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
 }

@@ -27,6 +27,45 @@ pub struct MeshBuffers {
     pub counts: wgpu::Buffer,
 }
 
+/// A texture the shaders sample, filled with `data` (`bytes_per_row` bytes a row, rows of
+/// `size.height` per layer or slice).
+pub(crate) fn sampled_texture(
+    ctx: &GpuContext,
+    label: &str,
+    size: wgpu::Extent3d,
+    dimension: wgpu::TextureDimension,
+    format: wgpu::TextureFormat,
+    data: &[u8],
+    bytes_per_row: u32,
+) -> wgpu::Texture {
+    let tex = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    ctx.queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &tex,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        data,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(bytes_per_row),
+            rows_per_image: Some(size.height),
+        },
+        size,
+    );
+    tex
+}
+
 /// Checks one buffer against the device's limits, naming it.
 fn check_size(ctx: &GpuContext, what: &str, bytes: u64, storage: bool) -> Result<()> {
     let lim = &ctx.limits;
@@ -183,32 +222,15 @@ impl ShadeResources {
                 height: dims[1],
                 depth_or_array_layers: dims[2],
             };
-            let tex = dev.create_texture(&wgpu::TextureDescriptor {
-                label: Some("pre-integration tables"),
+            sampled_texture(
+                ctx,
+                "pre-integration tables",
                 size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D3,
-                format: wgpu::TextureFormat::Rgba32Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            });
-            ctx.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &tex,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
+                wgpu::TextureDimension::D3,
+                wgpu::TextureFormat::Rgba32Float,
                 bytemuck::cast_slice(data),
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(dims[0] * 16),
-                    rows_per_image: Some(dims[1]),
-                },
-                size,
-            );
-            tex
+                dims[0] * 16,
+            )
         };
         let nodes_buffer = |nodes: &[[f32; 4]]| {
             dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
