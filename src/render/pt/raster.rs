@@ -80,6 +80,93 @@ impl SpanEdges {
     }
 }
 
+/// Pixels a row of [`Cover`] tests at once: clipped boxes at most this wide take the mask path.
+const COVER: usize = 16;
+
+/// The silhouette's edge functions over the lanes `x0 .. x0 + COVER` of one row in `i32`, for a
+/// tet small enough that no value there can overflow: a row's covered pixels come from one
+/// vectorized sign test instead of a search for each bound.
+struct Cover {
+    /// Edge values at the current row.
+    row: [[i32; COVER]; 4],
+    /// Change of each edge value from one row to the next.
+    step: [i32; 4],
+    /// Lanes inside the clipped box.
+    lanes: u32,
+}
+
+impl Cover {
+    /// Largest silhouette extent (fixed point) on either axis that the mask path takes: every
+    /// edge value it evaluates is then below `2^30` in magnitude (see [`Cover::new`]).
+    const EXTENT: i64 = 1 << 14;
+
+    /// The cover of the clipped box starting at pixel `(x0, y0)`, `w` pixels wide; `None` when
+    /// the silhouette is too large for `i32` or the box too wide.
+    #[inline(always)]
+    fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<Cover> {
+        if w > COVER as i64 {
+            return None;
+        }
+        let n = t.nedges as usize;
+        let (mut xmin, mut xmax, mut ymin, mut ymax) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
+        for p in &t.poly[..n] {
+            xmin = xmin.min(p[0]);
+            xmax = xmax.max(p[0]);
+            ymin = ymin.min(p[1]);
+            ymax = ymax.max(p[1]);
+        }
+        // Edge vectors are then at most `2^14` on each axis, and a lane's centre at most `2^14`
+        // from every corner vertically and `2^14 + 16 * 256` horizontally (the box's first
+        // centre is not left of the silhouette's bounds): `|a X + b Y + c| < 2^29 + 2^26 + 1`.
+        if (xmax as i64 - xmin as i64) > Self::EXTENT || (ymax as i64 - ymin as i64) > Self::EXTENT
+        {
+            return None;
+        }
+        let edges = t.edges();
+        let mut row = [[0i32; COVER]; 4];
+        let mut step = [0i32; 4];
+        for k in 0..4 {
+            // Unused edge slots repeat the first edge: the minimum over all four is unchanged.
+            let e = &edges[if k < n { k } else { 0 }];
+            let ea = e.a * SUB;
+            let e0 = ea * x0 + e.a * (SUB / 2) + e.b * (SUB * y0 + SUB / 2) + e.c + e.bias;
+            for (i, v) in row[k].iter_mut().enumerate() {
+                *v = (e0 + ea * i as i64) as i32;
+            }
+            step[k] = (e.b * SUB) as i32;
+        }
+        Some(Cover {
+            row,
+            step,
+            lanes: (1u32 << w) - 1,
+        })
+    }
+
+    /// Bit `i` set when pixel `x0 + i` of the current row is covered; then moves to the next row.
+    #[inline(always)]
+    fn next_row(&mut self) -> u32 {
+        let mut m = [0i32; COVER];
+        for i in 0..COVER {
+            m[i] = self.row[0][i]
+                .min(self.row[1][i])
+                .min(self.row[2][i])
+                .min(self.row[3][i]);
+        }
+        for k in 0..4 {
+            let s = self.step[k];
+            for v in self.row[k].iter_mut() {
+                // Past the last row the values are not used, so wrapping is harmless.
+                *v = v.wrapping_add(s);
+            }
+        }
+        let mut bits = 0u32;
+        for (i, v) in m.iter().enumerate() {
+            bits |= ((*v >= 0) as u32) << i;
+        }
+        bits & self.lanes
+    }
+}
+
 /// One row's depth and scalar planes with the row's offset folded in: `[value at dx = 0, slope]`.
 pub(crate) struct RowPlanes {
     pub(crate) front: [[f32; 2]; 3],
@@ -174,9 +261,25 @@ pub(crate) fn raster<S: Shade>(
     let tw = (tx1 - tx0 + 1) as usize;
     let mut frags = 0u64;
     let mut newly_opaque = 0usize;
-    let edges = SpanEdges::new(t);
+    let mut cover = Cover::new(t, x0, y0, x1 - x0 + 1);
+    let edges = if cover.is_none() {
+        Some(SpanEdges::new(t))
+    } else {
+        None
+    };
     for y in y0..=y1 {
-        let Some((xa, xb)) = edges.span(y, x0, x1) else {
+        let (xa, xb) = if let Some(c) = &mut cover {
+            let bits = c.next_row();
+            if bits == 0 {
+                continue;
+            }
+            (
+                x0 + bits.trailing_zeros() as i64,
+                x0 + 31 - bits.leading_zeros() as i64,
+            )
+        } else if let Some(s) = edges.as_ref().and_then(|e| e.span(y, x0, x1)) {
+            s
+        } else {
             continue;
         };
         let rp = RowPlanes::new(t, y as f32 + 0.5 - t.oy);
