@@ -129,9 +129,10 @@ impl Cover {
             // Unused edge slots repeat the first edge: the minimum over all four is unchanged.
             let e = &edges[if k < n { k } else { 0 }];
             let ea = e.a * SUB;
-            let e0 = ea * x0 + e.a * (SUB / 2) + e.b * (SUB * y0 + SUB / 2) + e.c + e.bias;
+            let e0 = (ea * x0 + e.a * (SUB / 2) + e.b * (SUB * y0 + SUB / 2) + e.c + e.bias) as i32;
+            let ea = ea as i32;
             for (i, v) in row[k].iter_mut().enumerate() {
-                *v = (e0 + ea * i as i64) as i32;
+                *v = e0 + ea * i as i32;
             }
             step[k] = (e.b * SUB) as i32;
         }
@@ -159,11 +160,32 @@ impl Cover {
                 *v = v.wrapping_add(s);
             }
         }
+        !negative_lanes(&m) & self.lanes
+    }
+}
+
+/// Bit `i` set when `m[i] < 0`.
+#[inline(always)]
+fn negative_lanes(m: &[i32; COVER]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        // SAFETY: SSE2 is part of x86_64, and the four unaligned loads read `m`'s 16 lanes.
+        // Saturating packs keep each lane's sign, so the byte mask is the lanes' sign mask.
+        unsafe {
+            let p = m.as_ptr() as *const __m128i;
+            let a = _mm_packs_epi32(_mm_loadu_si128(p), _mm_loadu_si128(p.add(1)));
+            let b = _mm_packs_epi32(_mm_loadu_si128(p.add(2)), _mm_loadu_si128(p.add(3)));
+            _mm_movemask_epi8(_mm_packs_epi16(a, b)) as u32
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
         let mut bits = 0u32;
         for (i, v) in m.iter().enumerate() {
-            bits |= ((*v >= 0) as u32) << i;
+            bits |= ((*v < 0) as u32) << i;
         }
-        bits & self.lanes
+        bits
     }
 }
 
@@ -188,42 +210,44 @@ impl RowPlanes {
     }
 }
 
-/// (Sf, Sb, l) of [`LANES`] consecutive pixels of a row from pixel `x` on: all three plane slots evaluated (the unused ones repeat a used plane), so no branch
-/// depends on the tet's class.
+/// Pixels waiting for the fragment math: up to [`LANES`] covered pixels of one tet, from any
+/// rows, so short rows do not leave lanes idle.
+struct Batch {
+    /// Pixel centre relative to vertex 0, per lane.
+    dx: [f32; LANES],
+    dy: [f32; LANES],
+    /// World length of the view ray per unit of depth, per lane.
+    st: [f32; LANES],
+    /// Index of each lane's pixel in the tile buffer.
+    at: [usize; LANES],
+    n: usize,
+}
+
+/// (Sf, Sb, l) of the [`LANES`] pixels of a batch: all three plane slots evaluated (the unused
+/// ones repeat a used plane), so no branch depends on the tet's class. Each plane is evaluated
+/// as `(c + ay dy) + ax dx`, the order of [`RowPlanes`], so every path gives the same bits.
 #[inline(always)]
-fn fragments(
-    t: &TetSetup,
-    rp: &RowPlanes,
-    parallel: bool,
-    x: i64,
-    stretch: &[f32; LANES],
-) -> Lanes {
-    let mut dx = [0f32; LANES];
-    for (i, d) in dx.iter_mut().enumerate() {
-        *d = (x as i32 + i as i32) as f32 + 0.5 - t.ox;
-    }
-    let ev = |p: &[f32; 2], d: f32| p[0] + p[1] * d;
+fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> Lanes {
+    let ev = |p: &[f32; 3], i: usize| (p[0] + p[2] * b.dy[i]) + p[1] * b.dx[i];
     let (mut zf, mut zb) = ([0f32; LANES], [0f32; LANES]);
     if parallel {
         for i in 0..LANES {
-            let d = dx[i];
-            zf[i] = ev(&rp.front[0], d)
-                .max(ev(&rp.front[1], d))
-                .max(ev(&rp.front[2], d));
-            zb[i] = ev(&rp.back[0], d)
-                .min(ev(&rp.back[1], d))
-                .min(ev(&rp.back[2], d));
+            zf[i] = ev(&t.front[0], i)
+                .max(ev(&t.front[1], i))
+                .max(ev(&t.front[2], i));
+            zb[i] = ev(&t.back[0], i)
+                .min(ev(&t.back[1], i))
+                .min(ev(&t.back[2], i));
         }
     } else {
         let w0 = t.w0;
         for i in 0..LANES {
-            let d = dx[i];
-            let df = ev(&rp.front[0], d)
-                .min(ev(&rp.front[1], d))
-                .min(ev(&rp.front[2], d));
-            let db = ev(&rp.back[0], d)
-                .max(ev(&rp.back[1], d))
-                .max(ev(&rp.back[2], d));
+            let df = ev(&t.front[0], i)
+                .min(ev(&t.front[1], i))
+                .min(ev(&t.front[2], i));
+            let db = ev(&t.back[0], i)
+                .max(ev(&t.back[1], i))
+                .max(ev(&t.back[2], i));
             // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
             zf[i] = -df / (w0 * (w0 + df));
             zb[i] = -db / (w0 * (w0 + db));
@@ -231,15 +255,51 @@ fn fragments(
     }
     let (mut sf, mut sb, mut l) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
     for i in 0..LANES {
-        let d = dx[i];
-        let sref = ev(&rp.sref, d);
-        let h = ev(&rp.h, d);
+        let sref = ev(&t.sref, i);
+        let h = ev(&t.h, i);
         sf[i] = (sref + zf[i] * h).clamp(t.smin, t.smax);
         sb[i] = (sref + zb[i] * h).clamp(t.smin, t.smax);
-        let li = ((zb[i] - zf[i]) * stretch[i]).max(0.0);
+        let li = ((zb[i] - zf[i]) * b.st[i]).max(0.0);
         l[i] = if li.is_finite() { li } else { 0.0 };
     }
     [sf, sb, l]
+}
+
+/// What a tet's drawing counts: fragments drawn and pixels that became opaque.
+#[derive(Default)]
+struct Drawn {
+    frags: u64,
+    opaque: usize,
+}
+
+/// Shades the first `b.n` lanes of a batch and composites them behind what `buf` holds.
+#[inline(always)]
+fn flush<S: Shade>(
+    t: &TetSetup,
+    parallel: bool,
+    b: &Batch,
+    buf: &mut [[f32; 4]],
+    shade: &S,
+    d: &mut Drawn,
+) {
+    let f = fragments(t, parallel, b);
+    let prep = shade.prep(&f);
+    for i in 0..b.n {
+        let slot = &mut buf[b.at[i]];
+        if slot[3] >= OPAQUE {
+            continue;
+        }
+        let c = shade.at(&prep, i);
+        let k = 1.0 - slot[3];
+        slot[0] += k * c[0];
+        slot[1] += k * c[1];
+        slot[2] += k * c[2];
+        slot[3] += k * c[3];
+        d.frags += 1;
+        if slot[3] >= OPAQUE {
+            d.opaque += 1;
+        }
+    }
 }
 
 /// Rasterizes one tet into a tile buffer (front to back). Returns fragments drawn and how many
@@ -259,13 +319,19 @@ pub(crate) fn raster<S: Shade>(
         return (0, 0);
     };
     let tw = (tx1 - tx0 + 1) as usize;
-    let mut frags = 0u64;
-    let mut newly_opaque = 0usize;
+    let mut d = Drawn::default();
     let mut cover = Cover::new(t, x0, y0, x1 - x0 + 1);
     let edges = if cover.is_none() {
         Some(SpanEdges::new(t))
     } else {
         None
+    };
+    let mut b = Batch {
+        dx: [0.0; LANES],
+        dy: [0.0; LANES],
+        st: [0.0; LANES],
+        at: [0; LANES],
+        n: 0,
     };
     for y in y0..=y1 {
         let (xa, xb) = if let Some(c) = &mut cover {
@@ -282,37 +348,24 @@ pub(crate) fn raster<S: Shade>(
         } else {
             continue;
         };
-        let rp = RowPlanes::new(t, y as f32 + 0.5 - t.oy);
-        let row = &mut buf[(y - ty0) as usize * tw..][..tw];
+        let dy = y as f32 + 0.5 - t.oy;
+        let row = (y - ty0) as usize * tw;
         let srow = &stretch[y as usize * width..][..width];
-        let mut x = xa;
-        while x <= xb {
-            let n = ((xb - x + 1) as usize).min(LANES);
-            let xs = x as usize;
-            let st: [f32; LANES] = match srow.get(xs..xs + LANES) {
-                Some(s) => s.try_into().unwrap_or([0.0; LANES]),
-                None => std::array::from_fn(|i| srow.get(xs + i).copied().unwrap_or(0.0)),
-            };
-            let f = fragments(t, &rp, parallel, x, &st);
-            let prep = shade.prep(&f);
-            let out = &mut row[(x - tx0) as usize..][..n];
-            for (i, slot) in out.iter_mut().enumerate() {
-                if slot[3] >= OPAQUE {
-                    continue;
-                }
-                let c = shade.at(&prep, i);
-                let k = 1.0 - slot[3];
-                slot[0] += k * c[0];
-                slot[1] += k * c[1];
-                slot[2] += k * c[2];
-                slot[3] += k * c[3];
-                frags += 1;
-                if slot[3] >= OPAQUE {
-                    newly_opaque += 1;
-                }
+        for x in xa..=xb {
+            let n = b.n;
+            b.dx[n] = x as i32 as f32 + 0.5 - t.ox;
+            b.dy[n] = dy;
+            b.st[n] = srow[x as usize];
+            b.at[n] = row + (x - tx0) as usize;
+            b.n = n + 1;
+            if b.n == LANES {
+                flush(t, parallel, &b, buf, shade, &mut d);
+                b.n = 0;
             }
-            x += LANES as i64;
         }
     }
-    (frags, newly_opaque)
+    if b.n > 0 {
+        flush(t, parallel, &b, buf, shade, &mut d);
+    }
+    (d.frags, d.opaque)
 }
