@@ -63,7 +63,7 @@ impl Shader {
 
 /// Pixels of the batched fragment math: fixed-size loops over them vectorize (spans of small
 /// tets are short, so more lanes would mostly compute pixels outside the span).
-pub(crate) const LANES: usize = 4;
+pub(crate) const LANES: usize = 8;
 
 /// (Sf, Sb, l) of [`LANES`] fragments.
 pub(crate) type Lanes = [[f32; LANES]; 3];
