@@ -147,8 +147,8 @@ impl Cover {
     #[inline(always)]
     fn next_row(&mut self) -> u32 {
         let mut m = [0i32; COVER];
-        for i in 0..COVER {
-            m[i] = self.row[0][i]
+        for (i, v) in m.iter_mut().enumerate() {
+            *v = self.row[0][i]
                 .min(self.row[1][i])
                 .min(self.row[2][i])
                 .min(self.row[3][i]);
@@ -163,6 +163,9 @@ impl Cover {
         !negative_lanes(&m) & self.lanes
     }
 }
+
+// [`negative_lanes`] reads exactly four 4-lane vectors.
+const _: () = assert!(COVER == 16);
 
 /// Bit `i` set when `m[i] < 0`.
 #[inline(always)]
@@ -368,4 +371,148 @@ pub(crate) fn raster<S: Shade>(
         flush(t, parallel, &b, buf, shade, &mut d);
     }
     (d.frags, d.opaque)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Marks every pixel it shades: alpha 1/2 on an empty buffer.
+    struct Mark;
+    impl Shade for Mark {
+        type Prep = ();
+        fn prep(&self, _: &Lanes) {}
+        fn at(&self, _: &(), _: usize) -> [f32; 4] {
+            [0.0, 0.0, 0.0, 0.5]
+        }
+    }
+
+    /// A silhouette as set-up leaves it, with flat planes: only coverage matters here.
+    fn setup(poly: &[(i64, i64)], w: i64, h: i64) -> Option<TetSetup> {
+        let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
+        let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
+        let xs = poly.iter().map(|p| p.0);
+        let ys = poly.iter().map(|p| p.1);
+        let (x0, x1) = (lo(xs.clone().min()?).max(0), hi(xs.max()?).min(w - 1));
+        let (y0, y1) = (lo(ys.clone().min()?).max(0), hi(ys.max()?).min(h - 1));
+        if x0 > x1 || y0 > y1 {
+            return None;
+        }
+        let mut p = [[0i32; 2]; 4];
+        for k in 0..4 {
+            let q = poly[k % poly.len()];
+            p[k] = [q.0 as i32, q.1 as i32];
+        }
+        let plane = [[0.0, 0.0, 0.0]; 3];
+        Some(TetSetup {
+            poly: p,
+            nedges: poly.len() as u32,
+            x0: x0 as i32,
+            x1: x1 as i32,
+            y0: y0 as i32,
+            y1: y1 as i32,
+            ox: 0.0,
+            oy: 0.0,
+            front: plane,
+            back: [[0.1, 0.0, 0.0]; 3],
+            w0: 1.0,
+            sref: [0.0; 3],
+            h: [0.0; 3],
+            smin: 0.0,
+            smax: 1.0,
+        })
+    }
+
+    /// The per-pixel definition of coverage: every edge's exact integer test with the owner rule.
+    fn inside(t: &TetSetup, x: i64, y: i64) -> bool {
+        let (cx, cy) = (x * SUB + SUB / 2, y * SUB + SUB / 2);
+        let e = t.edges();
+        e[..t.nedges as usize]
+            .iter()
+            .all(|e| e.a * cx + e.b * cy + e.c + e.bias >= 0)
+    }
+
+    /// Positively oriented convex hull of up to four points (fewer corners when some are
+    /// inside or collinear); `None` when it has no area.
+    fn hull(p: [(i64, i64); 4]) -> Option<Vec<(i64, i64)>> {
+        let cr = |o: (i64, i64), a: (i64, i64), b: (i64, i64)| {
+            (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+        };
+        let mut pts = p.to_vec();
+        pts.sort();
+        pts.dedup();
+        let mut h: Vec<(i64, i64)> = Vec::new();
+        for pass in 0..2 {
+            let start = h.len();
+            let it: Vec<_> = if pass == 0 {
+                pts.clone()
+            } else {
+                pts.iter().rev().copied().collect()
+            };
+            for q in it {
+                while h.len() >= start + 2 && cr(h[h.len() - 2], h[h.len() - 1], q) <= 0 {
+                    h.pop();
+                }
+                h.push(q);
+            }
+            h.pop();
+        }
+        (h.len() >= 3).then_some(h)
+    }
+
+    #[test]
+    fn drawn_pixels_are_exactly_those_the_edge_test_takes() {
+        let (w, h) = (96i64, 80i64);
+        let tiles = [(0, 0, 31, 31), (32, 32, 63, 63), (64, 64, 95, 79)];
+        let mut seed = 0x2545f4914f6cdd1du64;
+        let mut rnd = |n: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n as u64) as i64
+        };
+        let (mut cases, mut small) = (0, 0);
+        for case in 0..6000 {
+            // Small tets (the mask path), ones just past its limit, and huge ones; corners on
+            // pixel centres and on shared edges often, so the owner rule decides.
+            let span = [6, 20, 70, 4000][case % 4] * SUB;
+            let (cx, cy) = (rnd(w * SUB), rnd(h * SUB));
+            let mut p = [(0i64, 0i64); 4];
+            for q in &mut p {
+                *q = (cx + rnd(span) - span / 2, cy + rnd(span) - span / 2);
+                if rnd(3) == 0 {
+                    *q = (q.0 / SUB * SUB + SUB / 2, q.1 / SUB * SUB + SUB / 2);
+                }
+            }
+            let Some(poly) = hull(p) else { continue };
+            let Some(t) = setup(&poly, w, h) else {
+                continue;
+            };
+            cases += 1;
+            for &tile in &tiles {
+                let (tx0, ty0, tx1, ty1) = tile;
+                let tw = (tx1 - tx0 + 1) as usize;
+                let mut buf = vec![[0f32; 4]; tw * (ty1 - ty0 + 1) as usize];
+                let stretch = vec![1f32; (w * h) as usize];
+                if let Some((x0, x1, y0, _)) = t.clip(tile) {
+                    small += Cover::new(&t, x0, y0, x1 - x0 + 1).is_some() as usize;
+                }
+                let (frags, _) = raster(&t, false, tile, &mut buf, &stretch, w as usize, &Mark);
+                let mut want = 0;
+                for y in ty0..=ty1 {
+                    for x in tx0..=tx1 {
+                        let got = buf[(y - ty0) as usize * tw + (x - tx0) as usize][3];
+                        let inn = inside(&t, x, y);
+                        want += inn as u64;
+                        assert_eq!(got == 0.5, inn, "pixel ({x}, {y}) of {poly:?}");
+                    }
+                }
+                assert_eq!(frags, want);
+            }
+        }
+        assert!(
+            cases > 3000 && small > 1000,
+            "{cases} cases, {small} on the mask path"
+        );
+    }
 }
