@@ -360,9 +360,9 @@ fn solve4(rows: [([f64; 4], f64); 4]) -> Option<[f64; 4]> {
         }
         a.swap(c, p);
         for r in c + 1..4 {
-            let f = a[r][c] / a[c][c];
-            for k in c..5 {
-                a[r][k] -= f * a[c][k];
+            let (pivot, f) = (a[c], a[r][c] / a[c][c]);
+            for (x, p) in a[r].iter_mut().zip(pivot).skip(c) {
+                *x -= f * p;
             }
         }
     }
