@@ -798,12 +798,13 @@ impl pt::TileDraw for SceneDraw<'_> {
         &self,
         sst: &mut SplitStats,
         ti: usize,
-        p: &pt::Prepared,
+        run: &pt::Run,
+        k: usize,
         tile: pt::Tile,
         buf: &mut [[f32; 4]],
     ) -> (u64, usize) {
         let f = self.frame;
-        let pv = f.tets[p.t as usize].map(|v| &f.proj[v as usize]);
+        let pv = f.tets[run.tets[k] as usize].map(|v| &f.proj[v as usize]);
         let reg = self.regions[ti].0.as_ref();
         // One code for the whole tet when its depths miss the tile's crossings.
         let uniform = match reg {
@@ -823,7 +824,7 @@ impl pt::TileDraw for SceneDraw<'_> {
                 }
             }
         };
-        match (uniform, reg, &p.kind) {
+        match (uniform, reg, &f.kind(run, k)) {
             (Some(c), _, kind) => match self.shaders.get(self.slots[c as usize] as usize) {
                 Some(sh) => f.draw(kind, tile, buf, sh),
                 None => (0, 0),

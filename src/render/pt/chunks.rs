@@ -58,7 +58,7 @@ pub(crate) fn render_chunks(
             let mut counted = PtStats::default();
             for &t in run.iter() {
                 if let Some((p, _)) = frame.prepare(t, &mut counted) {
-                    frags += frame.draw(&p.kind, tile, &mut buf, shader).0;
+                    frags += frame.draw_prep(&p, tile, &mut buf, shader).0;
                 }
             }
             (buf, frags)

@@ -30,7 +30,7 @@ pub use classify::{classify, face_areas, ProjClass, FACES};
 pub(crate) use clip::{pixel_ray, ClipSetup};
 pub(crate) use setup::{fragment_span, TetSetup};
 pub use shade::Shader;
-pub(crate) use tiles::{render_tiles, Frame, PrepKind, Prepared, Tile, TileDraw};
+pub(crate) use tiles::{render_tiles, Frame, PrepKind, Run, Tile, TileDraw};
 pub(crate) use view::stretch_map;
 pub use view::{project_points, Projected, View};
 
@@ -47,6 +47,20 @@ pub(crate) const SUB: i64 = 256;
 const GUARD: f64 = (1i64 << 28) as f64;
 /// A pixel whose opacity passed this takes no more fragments (error below 1/2048).
 pub(crate) const OPAQUE: f32 = 1.0 - 1.0 / 2048.0;
+
+/// Asks the CPU to start loading the cache line holding `p` into all cache levels: a hint that
+/// never faults, whatever the address.
+#[inline(always)]
+pub(crate) fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing the program sees and never faults.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(p.cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
 
 /// Pixel box (x0, y0, x1, y1), inclusive.
 pub(crate) type PixelBox = (i64, i64, i64, i64);

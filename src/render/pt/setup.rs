@@ -1,4 +1,4 @@
-//! Per-tet set-up of the rasterizer: the exact silhouette, the front and back face depth planes and the scalar along each pixel's ray, kept compact (f32) since a frame holds one per drawn tet.
+//! Per-tet set-up of the rasterizer: the exact silhouette, the front and back face depth planes and the scalar along each pixel's ray, stored as a 128-byte record since a frame holds one per drawn tet.
 
 // Negated comparisons are deliberate: they also catch NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -6,7 +6,7 @@
 use super::classify::{class_index, classify, face_areas, orient2, ProjClass, FACES};
 use super::raster::RowPlanes;
 use super::tiles::Tile;
-use super::{Projected, PtStats, View, SUB};
+use super::{PixelBox, Projected, PtStats, View, SUB};
 use crate::geom;
 
 /// An edge of the silhouette: inside where `a x + b y + c > 0`, or `== 0` when `own`.
@@ -62,8 +62,8 @@ impl Edge {
     }
 }
 
-/// Everything one tet needs per pixel, set up once per frame from its projected vertices and
-/// kept compact (f32, fixed-point corners), since a frame holds one per drawn tet.
+/// Everything one tet needs per pixel, unfolded from its [`Prepared`] record where a tile draws
+/// it.
 #[derive(Clone, Copy)]
 pub(crate) struct TetSetup {
     /// Silhouette corners (fixed point), positively oriented: `nedges` of them.
@@ -104,17 +104,119 @@ fn plane_fit(p: [(f64, f64); 3], v: [f64; 3], ox: f64, oy: f64) -> Option<[f64; 
     (ax.is_finite() && ay.is_finite() && c.is_finite()).then_some([c, ax, ay])
 }
 
+/// A tet's set-up as a frame stores it between binning and drawing: 128 bytes on two cache
+/// lines, since every drawn tet's record is written once and read back by each tile it touches.
+/// [`Prepared::setup`] unfolds it into the [`TetSetup`] the rasterizer reads, value for value.
+#[derive(Clone, Copy)]
+#[repr(C, align(64))]
+pub(crate) struct Prepared {
+    /// Silhouette corners (fixed point), positively oriented; a triangle repeats corner 0 as
+    /// corner 3. For a clipped tet, `poly[0][0]` is its index in the run's clipped list.
+    poly: [[i32; 2]; 4],
+    /// Face depth planes as in [`TetSetup`]: the `nf` front ones, then the `nb` back ones.
+    planes: [[f32; 3]; 4],
+    sref: [f32; 3],
+    h: [f32; 3],
+    ox: f32,
+    oy: f32,
+    w0: f32,
+    smin: f32,
+    smax: f32,
+    /// Silhouette corners, or 0 for a tet drawn by the clipping path.
+    nedges: u8,
+    nf: u8,
+    nb: u8,
+}
+
+const _: () = assert!(std::mem::size_of::<Prepared>() == 128);
+
+/// Pixel bounds (x0, y0, x1, y1), inclusive, of the pixel centres in a silhouette's box,
+/// clipped to a `w` x `h` image; `None` when empty.
+#[inline(always)]
+fn pixel_bounds(poly: &[[i32; 2]; 4], w: i64, h: i64) -> Option<PixelBox> {
+    let (mut xmin, mut xmax, mut ymin, mut ymax) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+    for p in poly {
+        let (x, y) = (p[0] as i64, p[1] as i64);
+        xmin = xmin.min(x);
+        xmax = xmax.max(x);
+        ymin = ymin.min(y);
+        ymax = ymax.max(y);
+    }
+    // Pixel centres at 256 i + 128 inside [min, max].
+    let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
+    let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
+    let b = (
+        lo(xmin).max(0),
+        lo(ymin).max(0),
+        hi(xmax).min(w - 1),
+        hi(ymax).min(h - 1),
+    );
+    (b.0 <= b.2 && b.1 <= b.3).then_some(b)
+}
+
+impl Prepared {
+    /// The record of a tet drawn by the clipping path: entry `k` of its run's clipped list.
+    pub(crate) fn clipped(k: u32) -> Prepared {
+        Prepared {
+            poly: [[k as i32, 0]; 4],
+            planes: [[0.0; 3]; 4],
+            sref: [0.0; 3],
+            h: [0.0; 3],
+            ox: 0.0,
+            oy: 0.0,
+            w0: 0.0,
+            smin: 0.0,
+            smax: 0.0,
+            nedges: 0,
+            nf: 0,
+            nb: 0,
+        }
+    }
+
+    /// The index in the run's clipped list of a tet drawn by the clipping path, else `None`.
+    #[inline(always)]
+    pub(crate) fn clip_index(&self) -> Option<usize> {
+        (self.nedges == 0).then_some(self.poly[0][0] as u32 as usize)
+    }
+
+    /// The rasterizer's set-up, for a `w` x `h` image (not for a clipped tet).
+    #[inline(always)]
+    pub(crate) fn setup(&self, w: i64, h: i64) -> TetSetup {
+        let (x0, y0, x1, y1) = pixel_bounds(&self.poly, w, h).unwrap_or((0, 0, -1, -1));
+        let (nf, nb) = (self.nf as usize, self.nb as usize);
+        // Unused slots repeat the first plane of their side, as [`setup_tet`] left them.
+        let side = |first: usize, n: usize| {
+            [0, 1, 2].map(|k| self.planes[(first + if k < n { k } else { 0 }) & 3])
+        };
+        TetSetup {
+            poly: self.poly,
+            nedges: self.nedges as u32,
+            x0: x0 as i32,
+            x1: x1 as i32,
+            y0: y0 as i32,
+            y1: y1 as i32,
+            ox: self.ox,
+            oy: self.oy,
+            front: side(0, nf),
+            back: side(nf, nb),
+            w0: self.w0,
+            sref: self.sref,
+            h: self.h,
+            smin: self.smin,
+            smax: self.smax,
+        }
+    }
+}
+
+/// Sets up a tet whose vertices all project inside the guard band: its record and its pixel
+/// bounds (x0, y0, x1, y1), or `None` when it covers no pixel centre (counting its class).
 #[inline(always)]
 pub(crate) fn setup_tet(
     view: &View,
     pv: [&Projected; 4],
     s: [f64; 4],
     stats: &mut PtStats,
-) -> Option<TetSetup> {
-    if pv.iter().any(|p| !p.ok) {
-        stats.clipped += 1;
-        return None;
-    }
+) -> Option<(Prepared, PixelBox)> {
     let fp = pv.map(|p| (p.fx, p.fy));
     let d = face_areas(&fp);
     let class = classify(&d);
@@ -134,61 +236,41 @@ pub(crate) fn setup_tet(
             nn += 1;
         }
     }
-    let mut poly = [(0i64, 0i64); 4];
     let nedges;
-    if np == 1 || nn == 1 {
+    let corners = if np == 1 || nn == 1 {
         let lone = if np == 1 { pos[0] } else { neg[0] };
         let f = FACES[lone];
-        let tri = if d[lone] > 0 {
-            [fp[f[0]], fp[f[1]], fp[f[2]]]
-        } else {
-            [fp[f[0]], fp[f[2]], fp[f[1]]]
-        };
-        poly[..3].copy_from_slice(&tri);
         nedges = 3;
+        if d[lone] > 0 {
+            [f[0], f[1], f[2], f[0]]
+        } else {
+            [f[0], f[2], f[1], f[0]]
+        }
     } else {
         // 2 + 2: the positive faces i, j share edge k-l; diagonals i-j and k-l cross.
         let (i, j) = (pos[0], pos[1]);
         let (k, l) = (neg[0], neg[1]);
-        let q = if orient2(fp[i], fp[k], fp[j]) > 0 {
+        nedges = 4;
+        if orient2(fp[i], fp[k], fp[j]) > 0 {
             [i, k, j, l]
         } else {
             [i, l, j, k]
-        };
-        for (n, &v) in q.iter().enumerate() {
-            poly[n] = fp[v];
         }
-        nedges = 4;
-    }
-    let (mut xmin, mut xmax, mut ymin, mut ymax) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
-    for p in &fp {
-        xmin = xmin.min(p.0);
-        xmax = xmax.max(p.0);
-        ymin = ymin.min(p.1);
-        ymax = ymax.max(p.1);
-    }
-    // Pixel centres at 256 i + 128 inside [min, max].
-    let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
-    let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
-    let (x0, x1, y0, y1) = (
-        lo(xmin).max(0),
-        hi(xmax).min(view.width as i64 - 1),
-        lo(ymin).max(0),
-        hi(ymax).min(view.height as i64 - 1),
-    );
-    if x0 > x1 || y0 > y1 {
-        return None;
-    }
+    };
+    // The silhouette holds all four vertices, so its box is theirs. Fixed-point positions lie
+    // within the guard band (2^28), so they fit i32.
+    let poly = corners.map(|v| [fp[v].0 as i32, fp[v].1 as i32]);
+    let bounds = pixel_bounds(&poly, view.width as i64, view.height as i64)?;
 
     // Depth planes: w = 1/z (perspective) or z (parallel), relative to vertex 0.
-    let w = |p: &Projected| {
+    let wv = pv.map(|p| {
         if view.parallel {
             p.view[2]
         } else {
             1.0 / p.view[2]
         }
-    };
-    let w0 = w(pv[0]);
+    });
+    let w0 = wv[0];
     let (ox, oy) = (pv[0].px, pv[0].py);
     // Which sign group faces the eye: decided in 3-D on the face with the largest projection.
     let big = (0..4).max_by_key(|&i| d[i].abs()).unwrap_or(0);
@@ -203,8 +285,8 @@ pub(crate) fn setup_tet(
     // Front when the eye and the opposite vertex are on different sides of the face plane.
     let big_front = (vside > 0.0) != (eside > 0.0);
     let big_pos = d[big] > 0;
-    let mut front = [[0f32; 3]; 3];
-    let mut back = [[0f32; 3]; 3];
+    let mut front = [[0f32; 3]; 4];
+    let mut back = [[0f32; 3]; 4];
     let (mut nf, mut nb) = (0, 0);
     for (i, f) in FACES.iter().enumerate() {
         if d[i] == 0 {
@@ -212,7 +294,7 @@ pub(crate) fn setup_tet(
         }
         let (p0, p1, p2) = (pv[f[0]], pv[f[1]], pv[f[2]]);
         let pts = [(p0.px, p0.py), (p1.px, p1.py), (p2.px, p2.py)];
-        let vals = [w(p0) - w0, w(p1) - w0, w(p2) - w0];
+        let vals = [wv[f[0]] - w0, wv[f[1]] - w0, wv[f[2]] - w0];
         let Some(pl) = plane_fit(pts, vals, ox, oy) else {
             continue;
         };
@@ -233,6 +315,10 @@ pub(crate) fn setup_tet(
     if nf == 0 || nb == 0 {
         return None;
     }
+    // At most four faces are fitted, so the two sides fill the record's four plane slots.
+    let mut planes = [[0f32; 3]; 4];
+    planes[..nf].copy_from_slice(&front[..nf]);
+    planes[nf..nf + nb].copy_from_slice(&back[..nb]);
 
     // Scalar gradient in view coordinates.
     let e = [
@@ -272,31 +358,21 @@ pub(crate) fn setup_tet(
     };
     let smin = s.iter().copied().fold(f64::INFINITY, f64::min);
     let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    // Unused plane slots repeat the first plane, so the rasterizer takes the min and max over
-    // all three without branching (a repeat changes neither).
-    for k in nf..3 {
-        front[k] = front[0];
-    }
-    for k in nb..3 {
-        back[k] = back[0];
-    }
-    Some(TetSetup {
-        poly: poly.map(|p| [p.0 as i32, p.1 as i32]),
-        nedges: nedges as u32,
-        x0: x0 as i32,
-        x1: x1 as i32,
-        y0: y0 as i32,
-        y1: y1 as i32,
-        ox: ox as f32,
-        oy: oy as f32,
-        front,
-        back,
-        w0: w0 as f32,
+    let rec = Prepared {
+        poly,
+        planes,
         sref: sref.map(|x| x as f32),
         h: h.map(|x| x as f32),
+        ox: ox as f32,
+        oy: oy as f32,
+        w0: w0 as f32,
         smin: smin as f32,
         smax: smax as f32,
-    })
+        nedges,
+        nf: nf as u8,
+        nb: nb as u8,
+    };
+    Some((rec, bounds))
 }
 
 /// A fragment's entry and exit depths relative to vertex 0's depth, and its scalar as

@@ -4,9 +4,9 @@
 use rayon::prelude::*;
 
 use super::clip::{clip_box, ClipSetup};
-use super::setup::{setup_tet, TetSetup};
+use super::setup::{setup_tet, Prepared, TetSetup};
 use super::shade::Shader;
-use super::{PixelBox, Projected, PtStats, View, TILE};
+use super::{prefetch, PixelBox, Projected, PtStats, View, TILE};
 use crate::render::field::Field;
 use crate::render::image::Image;
 
@@ -23,23 +23,23 @@ pub(crate) struct Frame<'a> {
     pub(crate) stretch: &'a [f32],
 }
 
-/// A tet of one frame, set up once for all the tiles it touches.
-pub(crate) struct Prepared {
-    /// Index of the tet in the mesh.
-    pub(crate) t: u32,
-    pub(crate) kind: PrepKind,
-}
-
-pub(crate) enum PrepKind {
+/// What a tile draws a set-up tet from.
+pub(crate) enum PrepKind<'a> {
     Tet(TetSetup),
     /// Drawn by the per-pixel clipping path, over its pixel box.
-    Clipped(Box<ClipSetup>, PixelBox),
+    Clipped(&'a ClipSetup, PixelBox),
+}
+
+/// A tet of one frame, set up once for all the tiles it touches.
+pub(crate) enum Prep {
+    Tet(Prepared),
+    Clipped(ClipSetup, PixelBox),
 }
 
 impl Frame<'_> {
     /// Sets up tet `t` (counting its class): what its tiles draw and its pixel box.
     #[inline(always)]
-    pub(crate) fn prepare(&self, t: u32, st: &mut PtStats) -> Option<(Prepared, PixelBox)> {
+    pub(crate) fn prepare(&self, t: u32, st: &mut PtStats) -> Option<(Prep, PixelBox)> {
         let tet = &self.tets[t as usize];
         let pr = self.proj;
         let pv = [
@@ -49,21 +49,32 @@ impl Frame<'_> {
             &pr[tet[3] as usize],
         ];
         let s = self.field.at(t as usize, tet);
-        let (kind, b) = if pv.iter().any(|p| !p.ok) {
+        if pv.iter().any(|p| !p.ok) {
             st.clipped += 1;
             let (w, h) = (self.view.width as usize, self.view.height as usize);
             let c = ClipSetup::new(pv, s)?;
             let b = clip_box(self.view, &pv, w, h)?;
-            (PrepKind::Clipped(Box::new(c), b), b)
+            Some((Prep::Clipped(c, b), b))
         } else {
-            let su = setup_tet(self.view, pv, s, st)?;
-            let b = (su.x0 as i64, su.y0 as i64, su.x1 as i64, su.y1 as i64);
-            (PrepKind::Tet(su), b)
-        };
-        Some((Prepared { t, kind }, b))
+            let (rec, b) = setup_tet(self.view, pv, s, st)?;
+            Some((Prep::Tet(rec), b))
+        }
     }
 
-    /// Draws a prepared tet with one shader into `buf` covering `tile`: fragments and newly
+    /// What record `k` of `run` is drawn from.
+    #[inline(always)]
+    pub(crate) fn kind<'a>(&self, run: &'a Run, k: usize) -> PrepKind<'a> {
+        let p = &run.recs[k];
+        match p.clip_index() {
+            None => PrepKind::Tet(p.setup(self.view.width as i64, self.view.height as i64)),
+            Some(i) => {
+                let (c, b) = &run.clipped[i];
+                PrepKind::Clipped(c, *b)
+            }
+        }
+    }
+
+    /// Draws a set-up tet with one shader into `buf` covering `tile`: fragments and newly
     /// opaque pixels.
     #[inline(always)]
     pub(crate) fn draw(
@@ -85,6 +96,22 @@ impl Frame<'_> {
             PrepKind::Clipped(c, b) => c.draw(self.view, *b, tile, buf, shader),
         }
     }
+
+    /// [`Frame::draw`] of a tet as [`Frame::prepare`] gave it.
+    #[inline(always)]
+    pub(crate) fn draw_prep(
+        &self,
+        p: &Prep,
+        tile: Tile,
+        buf: &mut [[f32; 4]],
+        shader: &Shader,
+    ) -> (u64, usize) {
+        let kind = match p {
+            Prep::Tet(r) => PrepKind::Tet(r.setup(self.view.width as i64, self.view.height as i64)),
+            Prep::Clipped(c, b) => PrepKind::Clipped(c, *b),
+        };
+        self.draw(&kind, tile, buf, shader)
+    }
 }
 
 /// How the tiles draw a prepared tet: one shader for the plain path, the scene's per-pixel body
@@ -92,13 +119,14 @@ impl Frame<'_> {
 pub(crate) trait TileDraw: Sync {
     /// What a tile counts besides fragments.
     type State: Default + Send;
-    /// Draws `p` into `buf` covering tile `ti` (pixel box `tile`): fragments and newly opaque
-    /// pixels.
+    /// Draws record `k` of `run` into `buf` covering tile `ti` (pixel box `tile`): fragments
+    /// and newly opaque pixels.
     fn draw(
         &self,
         state: &mut Self::State,
         ti: usize,
-        p: &Prepared,
+        run: &Run,
+        k: usize,
         tile: Tile,
         buf: &mut [[f32; 4]],
     ) -> (u64, usize);
@@ -117,47 +145,90 @@ impl TileDraw for PlainDraw<'_> {
         &self,
         _: &mut (),
         _: usize,
-        p: &Prepared,
+        run: &Run,
+        k: usize,
         tile: Tile,
         buf: &mut [[f32; 4]],
     ) -> (u64, usize) {
-        self.frame.draw(&p.kind, tile, buf, self.shader)
+        let f = self.frame;
+        f.draw(&f.kind(run, k), tile, buf, self.shader)
     }
 }
 
-/// Set-up tets of a run of the order, their indices binned per tile, and their counts.
-type Binned = (Vec<Prepared>, Vec<Vec<u32>>, PtStats);
+/// A run of the order set up and binned per tile.
+pub(crate) struct Run {
+    /// The drawn tets' records, in the order.
+    recs: Vec<Prepared>,
+    /// Mesh index of each record's tet.
+    pub(crate) tets: Vec<u32>,
+    /// The tets the clipping path draws, and their pixel boxes.
+    clipped: Vec<(ClipSetup, PixelBox)>,
+    /// Per tile, its records in order.
+    lists: Vec<Vec<u32>>,
+    stats: PtStats,
+}
+
+/// How many entries ahead the loops below ask for the memory they will read: far enough for a
+/// miss to arrive, near enough that the line is not evicted first (2 to 8 measured alike).
+const AHEAD: usize = 4;
 
 /// Sets up a run of the order and bins it per tile (`ntx` tiles a row, `ntiles` in all).
 #[inline(always)]
-fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Binned {
-    let mut recs = Vec::with_capacity(chunk.len());
-    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); ntiles];
-    let mut st = PtStats::default();
-    for &t in chunk {
-        let Some((rec, (x0, y0, x1, y1))) = frame.prepare(t, &mut st) else {
+fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
+    let mut run = Run {
+        recs: Vec::with_capacity(chunk.len()),
+        tets: Vec::with_capacity(chunk.len()),
+        clipped: Vec::new(),
+        lists: vec![Vec::new(); ntiles],
+        stats: PtStats::default(),
+    };
+    let (tets, proj) = (frame.tets, frame.proj);
+    for (i, &t) in chunk.iter().enumerate() {
+        // The order visits the mesh's arrays out of their order: ask for the tet ahead, then
+        // for the points of the one after it, which the tet's line has brought by then.
+        if let Some(&u) = chunk.get(i + 2 * AHEAD) {
+            prefetch(tets.as_ptr().wrapping_add(u as usize));
+        }
+        if let Some(tet) = chunk.get(i + AHEAD).and_then(|&u| tets.get(u as usize)) {
+            for &v in tet {
+                let p = proj.as_ptr().wrapping_add(v as usize);
+                prefetch(p);
+                prefetch(p.cast::<u8>().wrapping_add(size_of::<Projected>() - 1));
+                if let Field::Point(s) = frame.field {
+                    prefetch(s.as_ptr().wrapping_add(v as usize));
+                }
+            }
+        }
+        let Some((prep, (x0, y0, x1, y1))) = frame.prepare(t, &mut run.stats) else {
             continue;
         };
-        let k = recs.len() as u32;
-        recs.push(rec);
+        let k = run.recs.len() as u32;
+        match prep {
+            Prep::Tet(r) => run.recs.push(r),
+            Prep::Clipped(c, b) => {
+                run.recs.push(Prepared::clipped(run.clipped.len() as u32));
+                run.clipped.push((c, b));
+            }
+        }
+        run.tets.push(t);
         for ty in (y0 as usize / TILE)..=(y1 as usize / TILE) {
             for tx in (x0 as usize / TILE)..=(x1 as usize / TILE) {
-                lists[ty * ntx + tx].push(k);
+                run.lists[ty * ntx + tx].push(k);
             }
         }
     }
-    (recs, lists, st)
+    run
 }
 
 /// [`bin`] compiled for AVX2 (bit for bit the same, as [`draw_tile_avx2`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Binned {
+unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
     bin(frame, chunk, ntx, ntiles)
 }
 
 /// [`bin`] with the widest instruction set the CPU has.
-fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Binned {
+fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
@@ -171,15 +242,22 @@ type TileOut<S> = (Vec<[f32; 4]>, u64, S);
 
 /// Draws tile `ti` (pixel box `tile`) from the binned runs in order.
 #[inline(always)]
-fn draw_tile<D: TileDraw>(d: &D, bins: &[Binned], ti: usize, tile: Tile) -> TileOut<D::State> {
+fn draw_tile<D: TileDraw>(d: &D, bins: &[Run], ti: usize, tile: Tile) -> TileOut<D::State> {
     let npix = ((tile.2 - tile.0 + 1) * (tile.3 - tile.1 + 1)) as usize;
     let mut buf = vec![[0f32; 4]; npix];
     let mut state = D::State::default();
     let mut frags = 0u64;
     let mut opaque = 0usize;
-    'outer: for (recs, lists, _) in bins {
-        for &k in &lists[ti] {
-            let (f, o) = d.draw(&mut state, ti, &recs[k as usize], tile, &mut buf);
+    'outer: for run in bins {
+        let list = &run.lists[ti];
+        for (i, &k) in list.iter().enumerate() {
+            // Each tile skips through the records: ask for the one a few entries ahead.
+            if let Some(&n) = list.get(i + AHEAD) {
+                let p = run.recs.as_ptr().wrapping_add(n as usize);
+                prefetch(p);
+                prefetch(p.cast::<u8>().wrapping_add(64));
+            }
+            let (f, o) = d.draw(&mut state, ti, run, k as usize, tile, &mut buf);
             frags += f;
             opaque += o;
             if opaque == npix {
@@ -196,7 +274,7 @@ fn draw_tile<D: TileDraw>(d: &D, bins: &[Binned], ti: usize, tile: Tile) -> Tile
 #[target_feature(enable = "avx2")]
 unsafe fn draw_tile_avx2<D: TileDraw>(
     d: &D,
-    bins: &[Binned],
+    bins: &[Run],
     ti: usize,
     tile: Tile,
 ) -> TileOut<D::State> {
@@ -204,7 +282,7 @@ unsafe fn draw_tile_avx2<D: TileDraw>(
 }
 
 /// [`draw_tile`] with the widest instruction set the CPU has.
-fn draw_tile_best<D: TileDraw>(d: &D, bins: &[Binned], ti: usize, tile: Tile) -> TileOut<D::State> {
+fn draw_tile_best<D: TileDraw>(d: &D, bins: &[Run], ti: usize, tile: Tile) -> TileOut<D::State> {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
@@ -227,13 +305,13 @@ pub(crate) fn render_tiles<D: TileDraw>(
     let (ntx, nty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let ntiles = ntx * nty;
     const CHUNK: usize = 1 << 15;
-    let bins: Vec<Binned> = order
+    let bins: Vec<Run> = order
         .par_chunks(CHUNK)
         .map(|chunk| bin_best(frame, chunk, ntx, ntiles))
         .collect();
     let mut stats = PtStats::default();
-    for (_, _, st) in &bins {
-        stats.add(st);
+    for run in &bins {
+        stats.add(&run.stats);
     }
     let bin_s = t1.elapsed().as_secs_f64();
     let tiles: Vec<TileOut<D::State>> = (0..ntiles)
