@@ -67,9 +67,9 @@ impl Shader {
     }
 }
 
-/// Pixels of the batched fragment math: fixed-size loops over them vectorize (spans of small
-/// tets are short, so more lanes would mostly compute pixels outside the span).
-pub(crate) const LANES: usize = 4;
+/// Pixels of the batched fragment math: fixed-size loops over them vectorize (one AVX2
+/// register; the rasterizer fills the lanes from several rows of a tet, so few stay idle).
+pub(crate) const LANES: usize = 8;
 
 /// (Sf, Sb, l) of [`LANES`] fragments.
 pub(crate) type Lanes = [[f32; LANES]; 3];
