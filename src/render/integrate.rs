@@ -610,9 +610,9 @@ impl PreintTable {
                         .collect()
                 })
                 .collect();
-            let mut at: Vec<Option<(&[[f32; 4]], &[[f32; 4]])>> = vec![None; nl * ns];
+            let mut at = vec![None; nl * ns];
             for (il, m, up, down) in diags.iter().flatten() {
-                at[il * ns + m] = Some((up, down));
+                at[il * ns + m] = Some((up.as_slice(), down.as_slice()));
             }
             data.par_chunks_mut(ns * ns)
                 .enumerate()
