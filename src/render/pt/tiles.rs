@@ -191,9 +191,7 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
         }
         if let Some(tet) = chunk.get(i + AHEAD).and_then(|&u| tets.get(u as usize)) {
             for &v in tet {
-                let p = proj.as_ptr().wrapping_add(v as usize);
-                prefetch(p);
-                prefetch(p.cast::<u8>().wrapping_add(size_of::<Projected>() - 1));
+                prefetch(proj.as_ptr().wrapping_add(v as usize));
                 if let Field::Point(s) = frame.field {
                     prefetch(s.as_ptr().wrapping_add(v as usize));
                 }

@@ -85,8 +85,10 @@ impl View {
     }
 }
 
-/// A mesh point after projection.
+/// A mesh point after projection: one cache line each, since the tets of a frame read their
+/// points in visibility order, out of the points' order.
 #[derive(Clone, Copy, Debug, Default)]
+#[repr(align(64))]
 pub struct Projected {
     pub view: [f64; 3],
     pub px: f64,
