@@ -112,11 +112,8 @@ fn plane_fits(
         ay[i] = (d2 * e1x - d1 * e2x) / dt;
         c[i] = v[0][i] + ax[i] * (ox - x[0][i]) + ay[i] * (oy - y[0][i]);
         det[i] = dt;
-        ok[i] = (dt != 0.0)
-            & dt.is_finite()
-            & ax[i].is_finite()
-            & ay[i].is_finite()
-            & c[i].is_finite();
+        ok[i] =
+            (dt != 0.0) & dt.is_finite() & ax[i].is_finite() & ay[i].is_finite() & c[i].is_finite();
     }
     ([c, ax, ay], det, ok)
 }
