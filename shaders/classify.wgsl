@@ -12,17 +12,6 @@
 // Positions are the unsnapped projections, as the CPU path's depth and scalar planes use them;
 // the rasterizer snaps them to its own sub-pixel grid (1/256 pixel on llvmpipe, as on the CPU).
 
-struct Frame {
-    eye: vec4<f32>,
-    r: vec4<f32>,
-    u: vec4<f32>,
-    f: vec4<f32>,
-    // width, height, scale (tan of half the view angle, or the parallel scale), aspect
-    size: vec4<f32>,
-    // tet count, parallel (0/1), cell field (0/1), unused
-    flags: vec4<u32>,
-}
-
 @group(0) @binding(0) var<uniform> fr: Frame;
 @group(0) @binding(1) var<storage, read> points: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> tets: array<vec4<u32>>;

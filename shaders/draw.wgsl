@@ -3,15 +3,6 @@
 // Blending (set on the pipeline) is premultiplied 'over' in front-to-back order:
 // dst = dst + (1 - dst.a) src, the CPU path's compositing step.
 
-struct Frame {
-    eye: vec4<f32>,
-    r: vec4<f32>,
-    u: vec4<f32>,
-    f: vec4<f32>,
-    size: vec4<f32>,
-    flags: vec4<u32>,
-}
-
 struct Shade {
     // mode (0 average, 1 linear, 2 preintegrated), nodes per function or table scalar count,
     // table length count, unused

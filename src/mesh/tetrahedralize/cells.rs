@@ -14,8 +14,10 @@
 //! all children must have the same non-zero sign (by the winding-number argument, same-signed
 //! cones over a closed non-self-intersecting surface tile it without overlap). When the pulled
 //! children fail that (a warped or non-convex cell), the cell is filled from a new centre point
-//! (the mean of its vertices) instead, over the same face triangles, so conformity is kept; if that
-//! fails too, the cell is reported as impossible to split.
+//! (the mean of its vertices) instead, over the same face triangles, so conformity is kept; when the
+//! mean does not see every face triangle from inside, the point deepest inside the cell's kernel (a
+//! small linear program over the triangles' planes) is tried; if that fails too, the cell is not
+//! star-shaped from any point and is reported as impossible to split.
 //!
 //! Cells written with repeated point ids (a hexahedron collapsed into a wedge or pyramid, as some
 //! FEM codes write them) work too: fan triangles with a repeated id are dropped, which leaves
@@ -259,15 +261,117 @@ fn split_tris(
             c[k] += p[k];
         }
     }
-    let c = round(c.map(|x| x / verts.len() as f64));
-    let with_centre = |id: i64| if id == CENTRE { c } else { pos(id) };
-    let mut tets: Vec<[i64; 4]> = tris.iter().map(|t| [t[0], t[2], t[1], CENTRE]).collect();
-    let inverted = orient_all(&mut tets, &with_centre).ok_or(SplitError::Invalid)?;
-    Ok(Split {
-        tets,
-        centre: Some(c),
-        inverted,
-    })
+    let mean = c.map(|x| x / verts.len() as f64);
+    let cone = |c: [f64; 3]| {
+        let with_centre = |id: i64| if id == CENTRE { c } else { pos(id) };
+        let mut tets: Vec<[i64; 4]> = tris.iter().map(|t| [t[0], t[2], t[1], CENTRE]).collect();
+        orient_all(&mut tets, &with_centre).map(|inverted| Split {
+            tets,
+            centre: Some(c),
+            inverted,
+        })
+    };
+    if let Some(s) = cone(round(mean)) {
+        return Ok(s);
+    }
+    // A warped cell can be star-shaped from some point but not from its vertices' mean: try the
+    // point deepest inside the kernel (where every face triangle sees the point on its inner
+    // side). The exact orientation test above still decides.
+    kernel_centre(tris, pos, mean)
+        .and_then(|k| cone(round(k)))
+        .ok_or(SplitError::Invalid)
+}
+
+/// The Chebyshev centre of the kernel of a closed triangulated surface: the point `x` that
+/// maximizes the smallest distance to the face triangles' planes, all on their inner side (for
+/// either orientation of the surface), found as the best vertex of the small linear program
+/// over `(x, t)` (every 4 planes tight). `None` when the kernel has no interior. Coordinates are
+/// taken relative to `origin` so that offsets like 1e7 do not cost digits.
+fn kernel_centre(
+    tris: &[[i64; 3]],
+    pos: &dyn Fn(i64) -> [f64; 3],
+    origin: [f64; 3],
+) -> Option<[f64; 3]> {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // Child (t0, t2, t1, x) has volume n . (x - p0) with n = (p2 - p0) x (p1 - p0): one row
+    // [n / |n|, -1] . (x, t) >= n . p0 / |n| per triangle, for one orientation sign.
+    let mut rows: Vec<([f64; 4], f64)> = Vec::with_capacity(tris.len());
+    for t in tris {
+        let [p0, p1, p2] = t.map(|id| sub(pos(id), origin));
+        let (a, b) = (sub(p2, p0), sub(p1, p0));
+        let n = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        let len = dot(n, n).sqrt();
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        let u = n.map(|x| x / len);
+        rows.push(([u[0], u[1], u[2], -1.0], dot(u, p0)));
+    }
+    let m = rows.len();
+    // Cells have at most 32 face triangles; the fallback is rare, so enumerating vertices is fine.
+    if !(4..=32).contains(&m) {
+        return None;
+    }
+    let mut best: Option<([f64; 3], f64)> = None;
+    for sign in [1.0, -1.0] {
+        let row = |i: usize| {
+            let (a, b) = rows[i];
+            ([sign * a[0], sign * a[1], sign * a[2], -1.0], sign * b)
+        };
+        for i in 0..m {
+            for j in i + 1..m {
+                for k in j + 1..m {
+                    for l in k + 1..m {
+                        let Some(v) = solve4([row(i), row(j), row(k), row(l)]) else {
+                            continue;
+                        };
+                        if v[3] <= best.map_or(0.0, |b| b.1) {
+                            continue;
+                        }
+                        let tol = 1e-12 * (1.0 + v[..3].iter().map(|x| x.abs()).sum::<f64>());
+                        let feasible = (0..m).all(|q| {
+                            let (a, b) = row(q);
+                            a[0] * v[0] + a[1] * v[1] + a[2] * v[2] + a[3] * v[3] >= b - tol
+                        });
+                        if feasible {
+                            best = Some(([v[0], v[1], v[2]], v[3]));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    best.map(|(x, _)| [x[0] + origin[0], x[1] + origin[1], x[2] + origin[2]])
+}
+
+/// Solves the 4x4 system `a_i . v = b_i` by Gaussian elimination with partial pivoting; `None`
+/// when it is singular or the result is not finite.
+fn solve4(rows: [([f64; 4], f64); 4]) -> Option<[f64; 4]> {
+    let mut a = rows.map(|(r, b)| [r[0], r[1], r[2], r[3], b]);
+    for c in 0..4 {
+        let p = (c..4).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
+        if a[p][c].abs() < 1e-12 {
+            return None;
+        }
+        a.swap(c, p);
+        for r in c + 1..4 {
+            let (pivot, f) = (a[c], a[r][c] / a[c][c]);
+            for (x, p) in a[r].iter_mut().zip(pivot).skip(c) {
+                *x -= f * p;
+            }
+        }
+    }
+    let mut v = [0.0; 4];
+    for c in (0..4).rev() {
+        let s: f64 = (c + 1..4).map(|k| a[c][k] * v[k]).sum();
+        v[c] = (a[c][4] - s) / a[c][c];
+    }
+    v.iter().all(|x| x.is_finite()).then_some(v)
 }
 
 /// Splits a cell whose faces are given as local-index tables (at most 8 points per face and 32
@@ -544,6 +648,71 @@ mod tests {
             split_table(&ids, &HEX_FACES, &pos, &no_round),
             Err(SplitError::Invalid)
         );
+    }
+
+    #[test]
+    fn warped_hex_seen_from_no_vertex_nor_its_mean_uses_its_kernel() {
+        // A hex with randomly dragged corners (found by a search): pulling from corner 0 and the
+        // vertices' mean both invert a child, but the cell is star-shaped from elsewhere.
+        const WARPED: [[f64; 3]; 8] = [
+            [0.02, -0.32, 0.33],
+            [0.31, 0.46, -0.64],
+            [0.89, 1.28, 0.46],
+            [-0.15, 2.05, 0.01],
+            [0.06, -0.23, 0.93],
+            [0.82, 0.28, 0.92],
+            [1.02, 0.45, 1.39],
+            [0.72, 0.64, 1.23],
+        ];
+        let ids: Vec<i64> = (0..8).collect();
+        let mut tris = Vec::new();
+        for f in HEX_FACES {
+            fan_from_min(&f.iter().map(|&i| i as i64).collect::<Vec<_>>(), &mut tris);
+        }
+        for offset in [0.0, 1e7] {
+            let pts = WARPED.map(|p| p.map(|x| x + offset));
+            let pos = pos_of(&pts);
+            let cone_ok = |x: [f64; 3]| {
+                let signs: Vec<i8> = tris
+                    .iter()
+                    .map(|t| {
+                        volume_sign(
+                            &pts[t[0] as usize],
+                            &pts[t[2] as usize],
+                            &pts[t[1] as usize],
+                            &x,
+                        )
+                    })
+                    .collect();
+                signs.iter().all(|&s| s != 0 && s == signs[0])
+            };
+            let mut mean = [0.0; 3];
+            for p in &pts {
+                for k in 0..3 {
+                    mean[k] += p[k] / 8.0;
+                }
+            }
+            assert!(!cone_ok(pts[0]) && !cone_ok(mean), "offset {offset}");
+            let s = split_table(&ids, &HEX_FACES, &pos, &no_round)
+                .unwrap_or_else(|e| panic!("offset {offset}: {e:?}"));
+            let c = s.centre.unwrap_or([f64::NAN; 3]);
+            assert!(cone_ok(c) && c != mean, "offset {offset}: centre {c:?}");
+            assert_eq!(s.tets.len(), tris.len());
+            let pc = |i: i64| if i == CENTRE { c } else { pts[i as usize] };
+            // Every child positive (checked inside), and together they fill the cell.
+            let filled = volume(&s.tets, &pc);
+            let enclosed: f64 = tris
+                .iter()
+                .map(|t| {
+                    let p = t.map(|i| pts[i as usize]);
+                    tet_volume(&p[0], &p[2], &p[1], &pts[0])
+                })
+                .sum();
+            assert!(
+                (filled - enclosed.abs()).abs() < 1e-9 * (1.0 + offset),
+                "offset {offset}: {filled} vs {enclosed}"
+            );
+        }
     }
 
     #[test]

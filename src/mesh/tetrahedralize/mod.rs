@@ -220,7 +220,7 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
             let ids = grid.cells.cell(i);
             let fail = |what: &str| format!("cell {i} ({}, type {t}): {what}", ct::name(t));
             let invalid = || {
-                fail("cannot be split into positively oriented tets (flat, or too warped or concave for a fan from a vertex or from its centre)")
+                fail("cannot be split into positively oriented tets (flat, or so warped or concave that no point inside it sees all its faces)")
             };
             if ct::dimension(t) < 3 {
                 if keep_lower {

@@ -2,9 +2,16 @@
 
 use super::context::GpuContext;
 
-const CLASSIFY: &str = include_str!("../../../shaders/classify.wgsl");
+// The frame uniform is declared once, in frame.wgsl, and prepended to the stages that read it.
+const CLASSIFY: &str = concat!(
+    include_str!("../../../shaders/frame.wgsl"),
+    include_str!("../../../shaders/classify.wgsl")
+);
 const EXPAND: &str = include_str!("../../../shaders/expand.wgsl");
-const DRAW: &str = include_str!("../../../shaders/draw.wgsl");
+const DRAW: &str = concat!(
+    include_str!("../../../shaders/frame.wgsl"),
+    include_str!("../../../shaders/draw.wgsl")
+);
 
 /// Bytes per fan vertex: clip x, y and the homogeneous (pf, qf, pb, qb).
 pub const VERTEX_BYTES: u64 = 24;

@@ -80,6 +80,118 @@ impl SpanEdges {
     }
 }
 
+/// Pixels a row of [`Cover`] tests at once: clipped boxes at most this wide take the mask path.
+const COVER: usize = 16;
+
+/// The silhouette's edge functions over the lanes `x0 .. x0 + COVER` of one row in `i32`, for a
+/// tet small enough that no value there can overflow: a row's covered pixels come from one
+/// vectorized sign test instead of a search for each bound.
+struct Cover {
+    /// Edge values at the current row.
+    row: [[i32; COVER]; 4],
+    /// Change of each edge value from one row to the next.
+    step: [i32; 4],
+    /// Lanes inside the clipped box.
+    lanes: u32,
+}
+
+impl Cover {
+    /// Largest silhouette extent (fixed point) on either axis that the mask path takes: every
+    /// edge value it evaluates is then below `2^30` in magnitude (see [`Cover::new`]).
+    const EXTENT: i64 = 1 << 14;
+
+    /// The cover of the clipped box starting at pixel `(x0, y0)`, `w` pixels wide; `None` when
+    /// the silhouette is too large for `i32` or the box too wide.
+    #[inline(always)]
+    fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<Cover> {
+        if w > COVER as i64 {
+            return None;
+        }
+        let n = t.nedges as usize;
+        let (mut xmin, mut xmax, mut ymin, mut ymax) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
+        for p in &t.poly[..n] {
+            xmin = xmin.min(p[0]);
+            xmax = xmax.max(p[0]);
+            ymin = ymin.min(p[1]);
+            ymax = ymax.max(p[1]);
+        }
+        // Edge vectors are then at most `2^14` on each axis, and a lane's centre at most `2^14`
+        // from every corner vertically and `2^14 + 16 * 256` horizontally (the box's first
+        // centre is not left of the silhouette's bounds): `|a X + b Y + c| < 2^29 + 2^26 + 1`.
+        if (xmax as i64 - xmin as i64) > Self::EXTENT || (ymax as i64 - ymin as i64) > Self::EXTENT
+        {
+            return None;
+        }
+        let edges = t.edges();
+        let mut row = [[0i32; COVER]; 4];
+        let mut step = [0i32; 4];
+        for k in 0..4 {
+            // Unused edge slots repeat the first edge: the minimum over all four is unchanged.
+            let e = &edges[if k < n { k } else { 0 }];
+            let ea = e.a * SUB;
+            let e0 = (ea * x0 + e.a * (SUB / 2) + e.b * (SUB * y0 + SUB / 2) + e.c + e.bias) as i32;
+            let ea = ea as i32;
+            for (i, v) in row[k].iter_mut().enumerate() {
+                *v = e0 + ea * i as i32;
+            }
+            step[k] = (e.b * SUB) as i32;
+        }
+        Some(Cover {
+            row,
+            step,
+            lanes: (1u32 << w) - 1,
+        })
+    }
+
+    /// Bit `i` set when pixel `x0 + i` of the current row is covered; then moves to the next row.
+    #[inline(always)]
+    fn next_row(&mut self) -> u32 {
+        let mut m = [0i32; COVER];
+        for (i, v) in m.iter_mut().enumerate() {
+            *v = self.row[0][i]
+                .min(self.row[1][i])
+                .min(self.row[2][i])
+                .min(self.row[3][i]);
+        }
+        for k in 0..4 {
+            let s = self.step[k];
+            for v in self.row[k].iter_mut() {
+                // Past the last row the values are not used, so wrapping is harmless.
+                *v = v.wrapping_add(s);
+            }
+        }
+        !negative_lanes(&m) & self.lanes
+    }
+}
+
+// [`negative_lanes`] reads exactly four 4-lane vectors.
+const _: () = assert!(COVER == 16);
+
+/// Bit `i` set when `m[i] < 0`.
+#[inline(always)]
+fn negative_lanes(m: &[i32; COVER]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        // SAFETY: SSE2 is part of x86_64, and the four unaligned loads read `m`'s 16 lanes.
+        // Saturating packs keep each lane's sign, so the byte mask is the lanes' sign mask.
+        unsafe {
+            let p = m.as_ptr() as *const __m128i;
+            let a = _mm_packs_epi32(_mm_loadu_si128(p), _mm_loadu_si128(p.add(1)));
+            let b = _mm_packs_epi32(_mm_loadu_si128(p.add(2)), _mm_loadu_si128(p.add(3)));
+            _mm_movemask_epi8(_mm_packs_epi16(a, b)) as u32
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let mut bits = 0u32;
+        for (i, v) in m.iter().enumerate() {
+            bits |= ((*v < 0) as u32) << i;
+        }
+        bits
+    }
+}
+
 /// One row's depth and scalar planes with the row's offset folded in: `[value at dx = 0, slope]`.
 pub(crate) struct RowPlanes {
     pub(crate) front: [[f32; 2]; 3],
@@ -101,42 +213,44 @@ impl RowPlanes {
     }
 }
 
-/// (Sf, Sb, l) of [`LANES`] consecutive pixels of a row from pixel `x` on: all three plane slots evaluated (the unused ones repeat a used plane), so no branch
-/// depends on the tet's class.
+/// Pixels waiting for the fragment math: up to [`LANES`] covered pixels of one tet, from any
+/// rows, so short rows do not leave lanes idle.
+struct Batch {
+    /// Pixel centre relative to vertex 0, per lane.
+    dx: [f32; LANES],
+    dy: [f32; LANES],
+    /// World length of the view ray per unit of depth, per lane.
+    st: [f32; LANES],
+    /// Index of each lane's pixel in the tile buffer.
+    at: [usize; LANES],
+    n: usize,
+}
+
+/// (Sf, Sb, l) of the [`LANES`] pixels of a batch: all three plane slots evaluated (the unused
+/// ones repeat a used plane), so no branch depends on the tet's class. Each plane is evaluated
+/// as `(c + ay dy) + ax dx`, the order of [`RowPlanes`], so every path gives the same bits.
 #[inline(always)]
-fn fragments(
-    t: &TetSetup,
-    rp: &RowPlanes,
-    parallel: bool,
-    x: i64,
-    stretch: &[f32; LANES],
-) -> Lanes {
-    let mut dx = [0f32; LANES];
-    for (i, d) in dx.iter_mut().enumerate() {
-        *d = (x as i32 + i as i32) as f32 + 0.5 - t.ox;
-    }
-    let ev = |p: &[f32; 2], d: f32| p[0] + p[1] * d;
+fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> Lanes {
+    let ev = |p: &[f32; 3], i: usize| (p[0] + p[2] * b.dy[i]) + p[1] * b.dx[i];
     let (mut zf, mut zb) = ([0f32; LANES], [0f32; LANES]);
     if parallel {
         for i in 0..LANES {
-            let d = dx[i];
-            zf[i] = ev(&rp.front[0], d)
-                .max(ev(&rp.front[1], d))
-                .max(ev(&rp.front[2], d));
-            zb[i] = ev(&rp.back[0], d)
-                .min(ev(&rp.back[1], d))
-                .min(ev(&rp.back[2], d));
+            zf[i] = ev(&t.front[0], i)
+                .max(ev(&t.front[1], i))
+                .max(ev(&t.front[2], i));
+            zb[i] = ev(&t.back[0], i)
+                .min(ev(&t.back[1], i))
+                .min(ev(&t.back[2], i));
         }
     } else {
         let w0 = t.w0;
         for i in 0..LANES {
-            let d = dx[i];
-            let df = ev(&rp.front[0], d)
-                .min(ev(&rp.front[1], d))
-                .min(ev(&rp.front[2], d));
-            let db = ev(&rp.back[0], d)
-                .max(ev(&rp.back[1], d))
-                .max(ev(&rp.back[2], d));
+            let df = ev(&t.front[0], i)
+                .min(ev(&t.front[1], i))
+                .min(ev(&t.front[2], i));
+            let db = ev(&t.back[0], i)
+                .max(ev(&t.back[1], i))
+                .max(ev(&t.back[2], i));
             // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
             zf[i] = -df / (w0 * (w0 + df));
             zb[i] = -db / (w0 * (w0 + db));
@@ -144,15 +258,51 @@ fn fragments(
     }
     let (mut sf, mut sb, mut l) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
     for i in 0..LANES {
-        let d = dx[i];
-        let sref = ev(&rp.sref, d);
-        let h = ev(&rp.h, d);
+        let sref = ev(&t.sref, i);
+        let h = ev(&t.h, i);
         sf[i] = (sref + zf[i] * h).clamp(t.smin, t.smax);
         sb[i] = (sref + zb[i] * h).clamp(t.smin, t.smax);
-        let li = ((zb[i] - zf[i]) * stretch[i]).max(0.0);
+        let li = ((zb[i] - zf[i]) * b.st[i]).max(0.0);
         l[i] = if li.is_finite() { li } else { 0.0 };
     }
     [sf, sb, l]
+}
+
+/// What a tet's drawing counts: fragments drawn and pixels that became opaque.
+#[derive(Default)]
+struct Drawn {
+    frags: u64,
+    opaque: usize,
+}
+
+/// Shades the first `b.n` lanes of a batch and composites them behind what `buf` holds.
+#[inline(always)]
+fn flush<S: Shade>(
+    t: &TetSetup,
+    parallel: bool,
+    b: &Batch,
+    buf: &mut [[f32; 4]],
+    shade: &S,
+    d: &mut Drawn,
+) {
+    let f = fragments(t, parallel, b);
+    let prep = shade.prep(&f);
+    for i in 0..b.n {
+        let slot = &mut buf[b.at[i]];
+        if slot[3] >= OPAQUE {
+            continue;
+        }
+        let c = shade.at(&prep, i);
+        let k = 1.0 - slot[3];
+        slot[0] += k * c[0];
+        slot[1] += k * c[1];
+        slot[2] += k * c[2];
+        slot[3] += k * c[3];
+        d.frags += 1;
+        if slot[3] >= OPAQUE {
+            d.opaque += 1;
+        }
+    }
 }
 
 /// Rasterizes one tet into a tile buffer (front to back). Returns fragments drawn and how many
@@ -172,44 +322,197 @@ pub(crate) fn raster<S: Shade>(
         return (0, 0);
     };
     let tw = (tx1 - tx0 + 1) as usize;
-    let mut frags = 0u64;
-    let mut newly_opaque = 0usize;
-    let edges = SpanEdges::new(t);
+    let mut d = Drawn::default();
+    let mut cover = Cover::new(t, x0, y0, x1 - x0 + 1);
+    let edges = if cover.is_none() {
+        Some(SpanEdges::new(t))
+    } else {
+        None
+    };
+    let mut b = Batch {
+        dx: [0.0; LANES],
+        dy: [0.0; LANES],
+        st: [0.0; LANES],
+        at: [0; LANES],
+        n: 0,
+    };
     for y in y0..=y1 {
-        let Some((xa, xb)) = edges.span(y, x0, x1) else {
+        let (xa, xb) = if let Some(c) = &mut cover {
+            let bits = c.next_row();
+            if bits == 0 {
+                continue;
+            }
+            (
+                x0 + bits.trailing_zeros() as i64,
+                x0 + 31 - bits.leading_zeros() as i64,
+            )
+        } else if let Some(s) = edges.as_ref().and_then(|e| e.span(y, x0, x1)) {
+            s
+        } else {
             continue;
         };
-        let rp = RowPlanes::new(t, y as f32 + 0.5 - t.oy);
-        let row = &mut buf[(y - ty0) as usize * tw..][..tw];
+        let dy = y as f32 + 0.5 - t.oy;
+        let row = (y - ty0) as usize * tw;
         let srow = &stretch[y as usize * width..][..width];
-        let mut x = xa;
-        while x <= xb {
-            let n = ((xb - x + 1) as usize).min(LANES);
-            let xs = x as usize;
-            let st: [f32; LANES] = match srow.get(xs..xs + LANES) {
-                Some(s) => s.try_into().unwrap_or([0.0; LANES]),
-                None => std::array::from_fn(|i| srow.get(xs + i).copied().unwrap_or(0.0)),
-            };
-            let f = fragments(t, &rp, parallel, x, &st);
-            let prep = shade.prep(&f);
-            let out = &mut row[(x - tx0) as usize..][..n];
-            for (i, slot) in out.iter_mut().enumerate() {
-                if slot[3] >= OPAQUE {
-                    continue;
-                }
-                let c = shade.at(&prep, i);
-                let k = 1.0 - slot[3];
-                slot[0] += k * c[0];
-                slot[1] += k * c[1];
-                slot[2] += k * c[2];
-                slot[3] += k * c[3];
-                frags += 1;
-                if slot[3] >= OPAQUE {
-                    newly_opaque += 1;
-                }
+        for x in xa..=xb {
+            let n = b.n;
+            b.dx[n] = x as i32 as f32 + 0.5 - t.ox;
+            b.dy[n] = dy;
+            b.st[n] = srow[x as usize];
+            b.at[n] = row + (x - tx0) as usize;
+            b.n = n + 1;
+            if b.n == LANES {
+                flush(t, parallel, &b, buf, shade, &mut d);
+                b.n = 0;
             }
-            x += LANES as i64;
         }
     }
-    (frags, newly_opaque)
+    if b.n > 0 {
+        flush(t, parallel, &b, buf, shade, &mut d);
+    }
+    (d.frags, d.opaque)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Marks every pixel it shades: alpha 1/2 on an empty buffer.
+    struct Mark;
+    impl Shade for Mark {
+        type Prep = ();
+        fn prep(&self, _: &Lanes) {}
+        fn at(&self, _: &(), _: usize) -> [f32; 4] {
+            [0.0, 0.0, 0.0, 0.5]
+        }
+    }
+
+    /// A silhouette as set-up leaves it, with flat planes: only coverage matters here.
+    fn setup(poly: &[(i64, i64)], w: i64, h: i64) -> Option<TetSetup> {
+        let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
+        let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
+        let xs = poly.iter().map(|p| p.0);
+        let ys = poly.iter().map(|p| p.1);
+        let (x0, x1) = (lo(xs.clone().min()?).max(0), hi(xs.max()?).min(w - 1));
+        let (y0, y1) = (lo(ys.clone().min()?).max(0), hi(ys.max()?).min(h - 1));
+        if x0 > x1 || y0 > y1 {
+            return None;
+        }
+        let mut p = [[0i32; 2]; 4];
+        for k in 0..4 {
+            let q = poly[k % poly.len()];
+            p[k] = [q.0 as i32, q.1 as i32];
+        }
+        let plane = [[0.0, 0.0, 0.0]; 3];
+        Some(TetSetup {
+            poly: p,
+            nedges: poly.len() as u32,
+            x0: x0 as i32,
+            x1: x1 as i32,
+            y0: y0 as i32,
+            y1: y1 as i32,
+            ox: 0.0,
+            oy: 0.0,
+            front: plane,
+            back: [[0.1, 0.0, 0.0]; 3],
+            w0: 1.0,
+            sref: [0.0; 3],
+            h: [0.0; 3],
+            smin: 0.0,
+            smax: 1.0,
+        })
+    }
+
+    /// The per-pixel definition of coverage: every edge's exact integer test with the owner rule.
+    fn inside(t: &TetSetup, x: i64, y: i64) -> bool {
+        let (cx, cy) = (x * SUB + SUB / 2, y * SUB + SUB / 2);
+        let e = t.edges();
+        e[..t.nedges as usize]
+            .iter()
+            .all(|e| e.a * cx + e.b * cy + e.c + e.bias >= 0)
+    }
+
+    /// Positively oriented convex hull of up to four points (fewer corners when some are
+    /// inside or collinear); `None` when it has no area.
+    fn hull(p: [(i64, i64); 4]) -> Option<Vec<(i64, i64)>> {
+        let cr = |o: (i64, i64), a: (i64, i64), b: (i64, i64)| {
+            (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+        };
+        let mut pts = p.to_vec();
+        pts.sort();
+        pts.dedup();
+        let mut h: Vec<(i64, i64)> = Vec::new();
+        for pass in 0..2 {
+            let start = h.len();
+            let it: Vec<_> = if pass == 0 {
+                pts.clone()
+            } else {
+                pts.iter().rev().copied().collect()
+            };
+            for q in it {
+                while h.len() >= start + 2 && cr(h[h.len() - 2], h[h.len() - 1], q) <= 0 {
+                    h.pop();
+                }
+                h.push(q);
+            }
+            h.pop();
+        }
+        (h.len() >= 3).then_some(h)
+    }
+
+    #[test]
+    fn drawn_pixels_are_exactly_those_the_edge_test_takes() {
+        let (w, h) = (96i64, 80i64);
+        let tiles = [(0, 0, 31, 31), (32, 32, 63, 63), (64, 64, 95, 79)];
+        let mut seed = 0x2545f4914f6cdd1du64;
+        let mut rnd = |n: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n as u64) as i64
+        };
+        let (mut cases, mut small) = (0, 0);
+        for case in 0..6000 {
+            // Small tets (the mask path), ones just past its limit, and huge ones; corners on
+            // pixel centres and on shared edges often, so the owner rule decides.
+            let span = [6, 20, 70, 4000][case % 4] * SUB;
+            let (cx, cy) = (rnd(w * SUB), rnd(h * SUB));
+            let mut p = [(0i64, 0i64); 4];
+            for q in &mut p {
+                *q = (cx + rnd(span) - span / 2, cy + rnd(span) - span / 2);
+                if rnd(3) == 0 {
+                    *q = (q.0 / SUB * SUB + SUB / 2, q.1 / SUB * SUB + SUB / 2);
+                }
+            }
+            let Some(poly) = hull(p) else { continue };
+            let Some(t) = setup(&poly, w, h) else {
+                continue;
+            };
+            cases += 1;
+            for &tile in &tiles {
+                let (tx0, ty0, tx1, ty1) = tile;
+                let tw = (tx1 - tx0 + 1) as usize;
+                let mut buf = vec![[0f32; 4]; tw * (ty1 - ty0 + 1) as usize];
+                let stretch = vec![1f32; (w * h) as usize];
+                if let Some((x0, x1, y0, _)) = t.clip(tile) {
+                    small += Cover::new(&t, x0, y0, x1 - x0 + 1).is_some() as usize;
+                }
+                let (frags, _) = raster(&t, false, tile, &mut buf, &stretch, w as usize, &Mark);
+                let mut want = 0;
+                for y in ty0..=ty1 {
+                    for x in tx0..=tx1 {
+                        let got = buf[(y - ty0) as usize * tw + (x - tx0) as usize][3];
+                        let inn = inside(&t, x, y);
+                        want += inn as u64;
+                        assert_eq!(got == 0.5, inn, "pixel ({x}, {y}) of {poly:?}");
+                    }
+                }
+                assert_eq!(frags, want);
+            }
+        }
+        assert!(
+            cases > 3000 && small > 1000,
+            "{cases} cases, {small} on the mask path"
+        );
+    }
 }
