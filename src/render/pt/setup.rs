@@ -88,20 +88,34 @@ pub(crate) struct TetSetup {
     pub(crate) smax: f32,
 }
 
-/// Linear function through three screen points: value at `(ox, oy)` and slopes.
+/// Linear functions through the three screen points of each of four faces (lane `i` is face
+/// `i`, point `j` at `(x[j][i], y[j][i])` with value `v[j][i]`): value at `(ox, oy)`, slopes,
+/// twice the signed area, and whether the fit is usable (a non-degenerate, finite plane). The
+/// lanes run the same operations side by side, so they compile to vector instructions.
 #[inline(always)]
-fn plane_fit(p: [(f64, f64); 3], v: [f64; 3], ox: f64, oy: f64) -> Option<[f64; 3]> {
-    let (e1x, e1y) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
-    let (e2x, e2y) = (p[2].0 - p[0].0, p[2].1 - p[0].1);
-    let det = e1x * e2y - e1y * e2x;
-    if det == 0.0 || !det.is_finite() {
-        return None;
+#[allow(clippy::type_complexity)]
+fn plane_fits(
+    x: &[[f64; 4]; 3],
+    y: &[[f64; 4]; 3],
+    v: &[[f64; 4]; 3],
+    ox: f64,
+    oy: f64,
+) -> ([[f64; 4]; 3], [f64; 4], [bool; 4]) {
+    let (mut c, mut ax, mut ay) = ([0f64; 4], [0f64; 4], [0f64; 4]);
+    let (mut det, mut ok) = ([0f64; 4], [false; 4]);
+    for i in 0..4 {
+        let (e1x, e1y) = (x[1][i] - x[0][i], y[1][i] - y[0][i]);
+        let (e2x, e2y) = (x[2][i] - x[0][i], y[2][i] - y[0][i]);
+        let dt = e1x * e2y - e1y * e2x;
+        let (d1, d2) = (v[1][i] - v[0][i], v[2][i] - v[0][i]);
+        ax[i] = (d1 * e2y - d2 * e1y) / dt;
+        ay[i] = (d2 * e1x - d1 * e2x) / dt;
+        c[i] = v[0][i] + ax[i] * (ox - x[0][i]) + ay[i] * (oy - y[0][i]);
+        det[i] = dt;
+        ok[i] =
+            (dt != 0.0) & dt.is_finite() & ax[i].is_finite() & ay[i].is_finite() & c[i].is_finite();
     }
-    let (d1, d2) = (v[1] - v[0], v[2] - v[0]);
-    let ax = (d1 * e2y - d2 * e1y) / det;
-    let ay = (d2 * e1x - d1 * e2x) / det;
-    let c = v[0] + ax * (ox - p[0].0) + ay * (oy - p[0].1);
-    (ax.is_finite() && ay.is_finite() && c.is_finite()).then_some([c, ax, ay])
+    ([c, ax, ay], det, ok)
 }
 
 /// A tet's set-up as a frame stores it between binning and drawing: 128 bytes on two cache
@@ -288,23 +302,24 @@ pub(crate) fn setup_tet(
     let mut front = [[0f32; 3]; 4];
     let mut back = [[0f32; 3]; 4];
     let (mut nf, mut nb) = (0, 0);
+    let (mut fx, mut fy, mut fw) = ([[0f64; 4]; 3], [[0f64; 4]; 3], [[0f64; 4]; 3]);
     for (i, f) in FACES.iter().enumerate() {
-        if d[i] == 0 {
+        for j in 0..3 {
+            fx[j][i] = pv[f[j]].px;
+            fy[j][i] = pv[f[j]].py;
+            fw[j][i] = wv[f[j]] - w0;
+        }
+    }
+    let (pl, area, fit) = plane_fits(&fx, &fy, &fw, ox, oy);
+    for i in 0..4 {
+        if d[i] == 0 || !fit[i] {
             continue;
         }
-        let (p0, p1, p2) = (pv[f[0]], pv[f[1]], pv[f[2]]);
-        let pts = [(p0.px, p0.py), (p1.px, p1.py), (p2.px, p2.py)];
-        let vals = [wv[f[0]] - w0, wv[f[1]] - w0, wv[f[2]] - w0];
-        let Some(pl) = plane_fit(pts, vals, ox, oy) else {
-            continue;
-        };
-        let pl = pl.map(|x| x as f32);
+        let pl = [pl[0][i] as f32, pl[1][i] as f32, pl[2][i] as f32];
         // Front or back by the unsnapped projection the plane was fitted to: a face seen nearly
         // edge-on can change sign on the fixed-point grid, and a flipped steep plane would cut
         // the whole tet away.
-        let (a, b, c) = (pts[0], pts[1], pts[2]);
-        let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
-        if (area > 0.0) == (big_pos == big_front) {
+        if (area[i] > 0.0) == (big_pos == big_front) {
             front[nf] = pl;
             nf += 1;
         } else {

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use super::clip::{clip_box, ClipSetup};
 use super::setup::{setup_tet, Prepared, TetSetup};
 use super::shade::Shader;
-use super::{prefetch, PixelBox, Projected, PtStats, View, TILE};
+use super::{huge_pages, prefetch, PixelBox, Projected, PtStats, View, TILE};
 use crate::render::field::Field;
 use crate::render::image::Image;
 
@@ -182,6 +182,7 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
         lists: vec![Vec::new(); ntiles],
         stats: PtStats::default(),
     };
+    huge_pages(&mut run.recs);
     let (tets, proj) = (frame.tets, frame.proj);
     for (i, &t) in chunk.iter().enumerate() {
         // The order visits the mesh's arrays out of their order: ask for the tet ahead, then
@@ -191,9 +192,7 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
         }
         if let Some(tet) = chunk.get(i + AHEAD).and_then(|&u| tets.get(u as usize)) {
             for &v in tet {
-                let p = proj.as_ptr().wrapping_add(v as usize);
-                prefetch(p);
-                prefetch(p.cast::<u8>().wrapping_add(size_of::<Projected>() - 1));
+                prefetch(proj.as_ptr().wrapping_add(v as usize));
                 if let Field::Point(s) = frame.field {
                     prefetch(s.as_ptr().wrapping_add(v as usize));
                 }

@@ -85,8 +85,10 @@ impl View {
     }
 }
 
-/// A mesh point after projection.
+/// A mesh point after projection: one cache line each, since the tets of a frame read their
+/// points in visibility order, out of the points' order.
 #[derive(Clone, Copy, Debug, Default)]
+#[repr(align(64))]
 pub struct Projected {
     pub view: [f64; 3],
     pub px: f64,
@@ -101,6 +103,8 @@ pub struct Projected {
 /// Projects every point (in parallel).
 pub fn project_points(view: &View, points: &[[f64; 3]]) -> Vec<Projected> {
     let near = 1e-9;
+    let mut out = Vec::with_capacity(points.len());
+    super::huge_pages(&mut out);
     points
         .par_iter()
         .map(|p| {
@@ -123,7 +127,8 @@ pub fn project_points(view: &View, points: &[[f64; 3]]) -> Vec<Projected> {
                 ok,
             }
         })
-        .collect()
+        .collect_into_vec(&mut out);
+    out
 }
 
 /// Each pixel centre's world length of the view ray per unit of depth, row by row.
