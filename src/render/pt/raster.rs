@@ -80,33 +80,30 @@ impl SpanEdges {
     }
 }
 
-/// Pixels a row of [`Cover`] tests at once: clipped boxes at most this wide take the mask path.
-const COVER: usize = 16;
-
-/// The silhouette's edge functions over the lanes `x0 .. x0 + COVER` of one row in `i32`, for a
-/// tet small enough that no value there can overflow: a row's covered pixels come from one
-/// vectorized sign test instead of a search for each bound.
-struct Cover {
+/// The silhouette's edge functions over the lanes `x0 .. x0 + L` of one row in `i32`, for a tet
+/// small enough that no value there can overflow: a row's covered pixels come from one
+/// vectorized sign test instead of a search for each bound. `L` is 8 or 16.
+struct Cover<const L: usize> {
     /// Edge values at the current row.
-    row: [[i32; COVER]; 4],
+    row: [[i32; L]; 4],
     /// Change of each edge value from one row to the next.
     step: [i32; 4],
     /// Lanes inside the clipped box.
     lanes: u32,
+    /// Pixel of lane 0.
+    x0: i64,
 }
 
-impl Cover {
-    /// Largest silhouette extent (fixed point) on either axis that the mask path takes: every
-    /// edge value it evaluates is then below `2^30` in magnitude (see [`Cover::new`]).
-    const EXTENT: i64 = 1 << 14;
+/// Largest silhouette extent (fixed point) on either axis that [`Cover`] takes: every edge
+/// value it evaluates is then below `2^30` in magnitude (see [`Cover::new`]).
+const EXTENT: i64 = 1 << 14;
 
-    /// The cover of the clipped box starting at pixel `(x0, y0)`, `w` pixels wide; `None` when
-    /// the silhouette is too large for `i32` or the box too wide.
+impl<const L: usize> Cover<L> {
+    /// The cover of the clipped box starting at pixel `(x0, y0)`, at most `L` pixels wide (`w`);
+    /// `None` when the silhouette is too large for `i32`.
     #[inline(always)]
-    fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<Cover> {
-        if w > COVER as i64 {
-            return None;
-        }
+    fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<Cover<L>> {
+        debug_assert!(w as usize <= L && L <= 16);
         let n = t.nedges as usize;
         let (mut xmin, mut xmax, mut ymin, mut ymax) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
         for p in &t.poly[..n] {
@@ -118,12 +115,11 @@ impl Cover {
         // Edge vectors are then at most `2^14` on each axis, and a lane's centre at most `2^14`
         // from every corner vertically and `2^14 + 16 * 256` horizontally (the box's first
         // centre is not left of the silhouette's bounds): `|a X + b Y + c| < 2^29 + 2^26 + 1`.
-        if (xmax as i64 - xmin as i64) > Self::EXTENT || (ymax as i64 - ymin as i64) > Self::EXTENT
-        {
+        if (xmax as i64 - xmin as i64) > EXTENT || (ymax as i64 - ymin as i64) > EXTENT {
             return None;
         }
         let edges = t.edges();
-        let mut row = [[0i32; COVER]; 4];
+        let mut row = [[0i32; L]; 4];
         let mut step = [0i32; 4];
         for k in 0..4 {
             // Unused edge slots repeat the first edge: the minimum over all four is unchanged.
@@ -140,13 +136,21 @@ impl Cover {
             row,
             step,
             lanes: (1u32 << w) - 1,
+            x0,
         })
     }
+}
 
-    /// Bit `i` set when pixel `x0 + i` of the current row is covered; then moves to the next row.
+/// The covered run of each row of a tet's clipped box, top to bottom.
+trait Rows {
+    /// The covered pixels `[xa, xb]` of the next row, `None` when it has none.
+    fn next_row(&mut self) -> Option<(i64, i64)>;
+}
+
+impl<const L: usize> Rows for Cover<L> {
     #[inline(always)]
-    fn next_row(&mut self) -> u32 {
-        let mut m = [0i32; COVER];
+    fn next_row(&mut self) -> Option<(i64, i64)> {
+        let mut m = [0i32; L];
         for (i, v) in m.iter_mut().enumerate() {
             *v = self.row[0][i]
                 .min(self.row[1][i])
@@ -160,26 +164,51 @@ impl Cover {
                 *v = v.wrapping_add(s);
             }
         }
-        !negative_lanes(&m) & self.lanes
+        let bits = !negative_lanes(&m) & self.lanes;
+        (bits != 0).then(|| {
+            (
+                self.x0 + bits.trailing_zeros() as i64,
+                self.x0 + 31 - bits.leading_zeros() as i64,
+            )
+        })
     }
 }
 
-// [`negative_lanes`] reads exactly four 4-lane vectors.
-const _: () = assert!(COVER == 16);
+/// Rows of a box too wide or a silhouette too large for [`Cover`]: each bound searched.
+struct Search {
+    edges: SpanEdges,
+    y: i64,
+    x0: i64,
+    x1: i64,
+}
 
-/// Bit `i` set when `m[i] < 0`.
+impl Rows for Search {
+    #[inline(always)]
+    fn next_row(&mut self) -> Option<(i64, i64)> {
+        let s = self.edges.span(self.y, self.x0, self.x1);
+        self.y += 1;
+        s
+    }
+}
+
+/// Bit `i` set when `m[i] < 0`, for 8 or 16 lanes.
 #[inline(always)]
-fn negative_lanes(m: &[i32; COVER]) -> u32 {
+fn negative_lanes<const L: usize>(m: &[i32; L]) -> u32 {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::*;
-        // SAFETY: SSE2 is part of x86_64, and the four unaligned loads read `m`'s 16 lanes.
-        // Saturating packs keep each lane's sign, so the byte mask is the lanes' sign mask.
+        // SAFETY: SSE2 is part of x86_64, and the unaligned loads read `m`'s lanes: two 4-lane
+        // vectors when L is 8, four when 16. Saturating packs keep each lane's sign, so the byte
+        // mask is the lanes' sign mask.
         unsafe {
             let p = m.as_ptr() as *const __m128i;
             let a = _mm_packs_epi32(_mm_loadu_si128(p), _mm_loadu_si128(p.add(1)));
-            let b = _mm_packs_epi32(_mm_loadu_si128(p.add(2)), _mm_loadu_si128(p.add(3)));
-            _mm_movemask_epi8(_mm_packs_epi16(a, b)) as u32
+            if L == 8 {
+                (_mm_movemask_epi8(_mm_packs_epi16(a, a)) & 0xff) as u32
+            } else {
+                let b = _mm_packs_epi32(_mm_loadu_si128(p.add(2)), _mm_loadu_si128(p.add(3)));
+                _mm_movemask_epi8(_mm_packs_epi16(a, b)) as u32
+            }
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -317,60 +346,88 @@ pub(crate) fn raster<S: Shade>(
     width: usize,
     shade: &S,
 ) -> (u64, usize) {
-    let (tx0, ty0, tx1, _) = tile;
     let Some((x0, x1, y0, y1)) = t.clip(tile) else {
         return (0, 0);
     };
-    let tw = (tx1 - tx0 + 1) as usize;
-    let mut d = Drawn::default();
-    let mut cover = Cover::new(t, x0, y0, x1 - x0 + 1);
-    let edges = if cover.is_none() {
-        Some(SpanEdges::new(t))
+    let w = x1 - x0 + 1;
+    let draw = Draw {
+        t,
+        parallel,
+        tile,
+        stretch,
+        width,
+        shade,
+    };
+    let d = if w <= 8 {
+        Cover::<8>::new(t, x0, y0, w).map(|c| draw.rows(c, y0, y1, buf))
+    } else if w <= 16 {
+        Cover::<16>::new(t, x0, y0, w).map(|c| draw.rows(c, y0, y1, buf))
     } else {
         None
     };
-    let mut b = Batch {
-        dx: [0.0; LANES],
-        dy: [0.0; LANES],
-        st: [0.0; LANES],
-        at: [0; LANES],
-        n: 0,
-    };
-    for y in y0..=y1 {
-        let (xa, xb) = if let Some(c) = &mut cover {
-            let bits = c.next_row();
-            if bits == 0 {
-                continue;
-            }
-            (
-                x0 + bits.trailing_zeros() as i64,
-                x0 + 31 - bits.leading_zeros() as i64,
-            )
-        } else if let Some(s) = edges.as_ref().and_then(|e| e.span(y, x0, x1)) {
-            s
-        } else {
-            continue;
+    let d = d.unwrap_or_else(|| {
+        let s = Search {
+            edges: SpanEdges::new(t),
+            y: y0,
+            x0,
+            x1,
         };
-        let dy = y as f32 + 0.5 - t.oy;
-        let row = (y - ty0) as usize * tw;
-        let srow = &stretch[y as usize * width..][..width];
-        for x in xa..=xb {
-            let n = b.n;
-            b.dx[n] = x as i32 as f32 + 0.5 - t.ox;
-            b.dy[n] = dy;
-            b.st[n] = srow[x as usize];
-            b.at[n] = row + (x - tx0) as usize;
-            b.n = n + 1;
-            if b.n == LANES {
-                flush(t, parallel, &b, buf, shade, &mut d);
-                b.n = 0;
+        draw.rows(s, y0, y1, buf)
+    });
+    (d.frags, d.opaque)
+}
+
+/// What drawing a tet into one tile reads besides its rows.
+struct Draw<'a, S> {
+    t: &'a TetSetup,
+    parallel: bool,
+    tile: Tile,
+    stretch: &'a [f32],
+    width: usize,
+    shade: &'a S,
+}
+
+impl<S: Shade> Draw<'_, S> {
+    /// Draws rows `y0 ..= y1` of the tet, the covered run of each from `rows`, batching pixels
+    /// of consecutive rows into the lanes of the fragment math.
+    #[inline(always)]
+    fn rows<R: Rows>(&self, mut rows: R, y0: i64, y1: i64, buf: &mut [[f32; 4]]) -> Drawn {
+        let (t, parallel, shade) = (self.t, self.parallel, self.shade);
+        let (tx0, ty0, tx1, _) = self.tile;
+        let tw = (tx1 - tx0 + 1) as usize;
+        let mut d = Drawn::default();
+        let mut b = Batch {
+            dx: [0.0; LANES],
+            dy: [0.0; LANES],
+            st: [0.0; LANES],
+            at: [0; LANES],
+            n: 0,
+        };
+        for y in y0..=y1 {
+            let Some((xa, xb)) = rows.next_row() else {
+                continue;
+            };
+            let dy = y as f32 + 0.5 - t.oy;
+            let row = (y - ty0) as usize * tw;
+            let srow = &self.stretch[y as usize * self.width..][..self.width];
+            for x in xa..=xb {
+                let n = b.n;
+                b.dx[n] = x as i32 as f32 + 0.5 - t.ox;
+                b.dy[n] = dy;
+                b.st[n] = srow[x as usize];
+                b.at[n] = row + (x - tx0) as usize;
+                b.n = n + 1;
+                if b.n == LANES {
+                    flush(t, parallel, &b, buf, shade, &mut d);
+                    b.n = 0;
+                }
             }
         }
+        if b.n > 0 {
+            flush(t, parallel, &b, buf, shade, &mut d);
+        }
+        d
     }
-    if b.n > 0 {
-        flush(t, parallel, &b, buf, shade, &mut d);
-    }
-    (d.frags, d.opaque)
 }
 
 #[cfg(test)]
@@ -495,7 +552,8 @@ mod tests {
                 let mut buf = vec![[0f32; 4]; tw * (ty1 - ty0 + 1) as usize];
                 let stretch = vec![1f32; (w * h) as usize];
                 if let Some((x0, x1, y0, _)) = t.clip(tile) {
-                    small += Cover::new(&t, x0, y0, x1 - x0 + 1).is_some() as usize;
+                    let w = x1 - x0 + 1;
+                    small += (w <= 16 && Cover::<16>::new(&t, x0, y0, w).is_some()) as usize;
                 }
                 let (frags, _) = raster(&t, false, tile, &mut buf, &stretch, w as usize, &Mark);
                 let mut want = 0;
