@@ -545,7 +545,9 @@ pub struct PreintTable {
 }
 
 impl PreintTable {
-    /// Builds an `ns x ns x nl` table for lengths in [0, lmax], one l-slice per rayon task.
+    /// Builds an `ns x ns x nl` table for lengths in [0, lmax], in parallel (rayon) over the
+    /// reduced fractions below, then over l-slices. Peak memory is about twice the table's: the
+    /// composed runs wait in their own buffers until the slices take them.
     ///
     /// Entries are composed from short ones rather than integrated one by one: at a length
     /// `l` and a scalar difference of `m` grid steps, every segment is the ray-order composite
