@@ -542,24 +542,6 @@ pub struct PreintTable {
     pub lmax: f64,
     /// Index `(il * ns + ib) * ns + if_`.
     pub data: Vec<[f32; 4]>,
-    /// The same entries for the lookup: at `(il * ns + ib) * ns + if_` for `il < nl - 1`, the
-    /// entry and its neighbour along l, so that one 32-byte load gives both ends of the l
-    /// interpolation and the first two interpolations run on both at once.
-    pairs: Vec<[f32; 8]>,
-    /// Whether the CPU has AVX, so that [`Self::corners_avx`] may run.
-    avx: bool,
-}
-
-/// Whether this CPU has AVX.
-fn cpu_has_avx() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
 }
 
 impl PreintTable {
@@ -570,7 +552,8 @@ impl PreintTable {
     /// of `m` consecutive one-step segments of length `l / m`, so each (l, m) integrates its
     /// `ns - 1` one-step segments exactly ([`ExactTf`]) and composes the `ns - m` runs of `m` of
     /// them with the van Herk / Gil-Werman sliding window (three composites per run whatever
-    /// `m` is). The composite is exact, so entries differ from integrating each segment at once
+    /// `m` is); the one-step segments of (l, m) and (k l, k m) are the same, integrated once.
+    /// The composite is exact, so entries differ from integrating each segment at once
     /// only by f64 rounding before the f32 store (tests hold them to 2e-7; measured 3e-8).
     pub fn build(tf: &TransferFunction, ns: usize, nl: usize, lmax: f64) -> PreintTable {
         let ns = ns.max(2);
@@ -586,56 +569,70 @@ impl PreintTable {
         let ex = ExactTf::new(tf);
         let rgba = |a: &Acc| a.rgba().map(|x| x as f32);
         let mut data = vec![[0f32; 4]; ns * ns * nl];
-        data.par_chunks_mut(ns * ns)
-            .enumerate()
-            .for_each(|(il, slice)| {
-                let l = l_at(il);
-                if !(span > 0.0) {
-                    // Every grid scalar is the same: constant segments, cheap one by one.
+        if !(span > 0.0) {
+            // Every grid scalar is the same: constant segments, cheap one by one.
+            data.par_chunks_mut(ns * ns)
+                .enumerate()
+                .for_each(|(il, slice)| {
                     for (k, o) in slice.iter_mut().enumerate() {
-                        *o = rgba(&ex.acc(s_at(k % ns), s_at(k / ns), l));
+                        *o = rgba(&ex.acc(s_at(k % ns), s_at(k / ns), l_at(il)));
                     }
-                    return;
-                }
-                if !(l > 0.0) {
-                    return;
-                }
-                // Per scalar difference m: the runs up (Sf < Sb) and down.
-                let diags: Vec<(Vec<Acc>, Vec<Acc>)> = (1..ns)
-                    .into_par_iter()
-                    .map(|m| {
-                        let h = l / m as f64;
-                        let up: Vec<Acc> = (0..ns - 1)
-                            .map(|j| ex.acc(s_at(j), s_at(j + 1), h))
-                            .collect();
-                        let down: Vec<Acc> = (0..ns - 1)
-                            .map(|j| ex.acc(s_at(j + 1), s_at(j), h))
-                            .collect();
-                        (runs(&up, m, false), runs(&down, m, true))
-                    })
-                    .collect();
-                for i in 0..ns {
-                    slice[i * ns + i] = rgba(&ex.acc(s_at(i), s_at(i), l));
-                }
-                for (m, (up, down)) in (1..ns).zip(&diags) {
-                    for (i, (u, d)) in up.iter().zip(down).enumerate() {
-                        // Up: Sf at grid i, Sb at i + m; down: the other way round.
-                        slice[(i + m) * ns + i] = rgba(u);
-                        slice[i * ns + i + m] = rgba(d);
+                });
+        } else {
+            // The one-step segments of length l / m depend on l / m only: integrated once per
+            // reduced fraction p / q, they serve every (l, m) = (k p, k q).
+            let fractions: Vec<(usize, usize)> = (1..nl)
+                .flat_map(|p| {
+                    (1..ns)
+                        .filter(move |&q| gcd(p, q) == 1)
+                        .map(move |q| (p, q))
+                })
+                .collect();
+            // Per (il, m): the runs up (Sf < Sb) and down, as stored.
+            type Diag = (usize, usize, Vec<[f32; 4]>, Vec<[f32; 4]>);
+            let diags: Vec<Vec<Diag>> = fractions
+                .par_iter()
+                .map(|&(p, q)| {
+                    let h = l_at(p) / q as f64;
+                    let up: Vec<Acc> = (0..ns - 1)
+                        .map(|j| ex.acc(s_at(j), s_at(j + 1), h))
+                        .collect();
+                    let down: Vec<Acc> = (0..ns - 1)
+                        .map(|j| ex.acc(s_at(j + 1), s_at(j), h))
+                        .collect();
+                    (1..)
+                        .map(|k| (k * p, k * q))
+                        .take_while(|&(il, m)| il < nl && m < ns)
+                        .map(|(il, m)| {
+                            let f = |v: Vec<Acc>| v.iter().map(rgba).collect();
+                            (il, m, f(runs(&up, m, false)), f(runs(&down, m, true)))
+                        })
+                        .collect()
+                })
+                .collect();
+            let mut at = vec![None; nl * ns];
+            for (il, m, up, down) in diags.iter().flatten() {
+                at[il * ns + m] = Some((up.as_slice(), down.as_slice()));
+            }
+            data.par_chunks_mut(ns * ns)
+                .enumerate()
+                .skip(1)
+                .for_each(|(il, slice)| {
+                    for i in 0..ns {
+                        slice[i * ns + i] = rgba(&ex.acc(s_at(i), s_at(i), l_at(il)));
                     }
-                }
-            });
-        let mut pairs = vec![[0f32; 8]; ns * ns * (nl - 1)];
-        pairs
-            .par_chunks_mut(ns * ns)
-            .enumerate()
-            .for_each(|(il, out)| {
-                let (a, b) = (&data[il * ns * ns..], &data[(il + 1) * ns * ns..]);
-                for (k, o) in out.iter_mut().enumerate() {
-                    o[..4].copy_from_slice(&a[k]);
-                    o[4..].copy_from_slice(&b[k]);
-                }
-            });
+                    for m in 1..ns {
+                        // Every (il, m) with il, m >= 1 has its fraction, so this always holds.
+                        if let Some((up, down)) = at[il * ns + m] {
+                            for (i, (u, d)) in up.iter().zip(down).enumerate() {
+                                // Up: Sf at grid i, Sb at i + m; down: the other way round.
+                                slice[(i + m) * ns + i] = *u;
+                                slice[i * ns + i + m] = *d;
+                            }
+                        }
+                    }
+                });
+        }
         PreintTable {
             ns,
             nl,
@@ -648,15 +645,7 @@ impl PreintTable {
             inv_dl: ((nl - 1) as f64 / lmax) as f32,
             lmax,
             data,
-            pairs,
-            avx: cpu_has_avx(),
         }
-    }
-
-    /// Whether [`Self::corners_avx`] may run on this CPU.
-    #[inline(always)]
-    pub(crate) fn avx(&self) -> bool {
-        self.avx
     }
 
     /// Trilinear lookup.
@@ -683,68 +672,35 @@ impl PreintTable {
     }
 
     /// Trilinear blend of the eight entries from `base` (`(il * ns + ib) * ns + if_` with
-    /// `il <= nl - 2`, `ib, if_ <= ns - 2`) with weights along (Sf, Sb, l): along Sf, then Sb,
-    /// then l, each `a + t (b - a)` in f32 (so with or without AVX the same bits).
+    /// `il <= nl - 2`, `ib, if_ <= ns - 2`) with weights along (Sf, Sb, l).
     #[inline(always)]
     pub fn corners(&self, base: usize, tf: f32, tb: f32, tl: f32) -> [f32; 4] {
         let ns = self.ns;
-        // One bounds check for the four pairs.
-        let d = &self.pairs[base..base + ns + 2];
-        // SAFETY: `d` has `ns + 2` entries, so indices up to `ns + 1` are in it.
-        let (d0, d1, d2, d3) = unsafe {
-            (
-                d.get_unchecked(0),
-                d.get_unchecked(1),
-                d.get_unchecked(ns),
-                d.get_unchecked(ns + 1),
-            )
-        };
-        // Both l ends at once: [at il, at il + 1].
-        let p = lerp8(&lerp8(d0, d1, tf), &lerp8(d2, d3, tf), tb);
-        let mut out = [0f32; 4];
-        for k in 0..4 {
-            out[k] = p[k] + tl * (p[k + 4] - p[k]);
-        }
-        out
+        // One bounds check for the eight corners (indices 0 to ns * ns + ns + 1 of `d`).
+        let d = &self.data[base..base + ns * ns + ns + 2];
+        // SAFETY: every index below is at most `ns * ns + ns + 1`, inside `d`.
+        let at = |k: usize| unsafe { *d.get_unchecked(k) };
+        let (o0, o1) = (0, ns * ns);
+        let p0 = lerp4(
+            lerp4(at(o0), at(o0 + 1), tf),
+            lerp4(at(o0 + ns), at(o0 + ns + 1), tf),
+            tb,
+        );
+        let p1 = lerp4(
+            lerp4(at(o1), at(o1 + 1), tf),
+            lerp4(at(o1 + ns), at(o1 + ns + 1), tf),
+            tb,
+        );
+        lerp4(p0, p1, tl)
     }
 }
 
-impl PreintTable {
-    /// [`Self::corners`] on 256-bit vectors: the same f32 operations on the same values in the
-    /// same order (no fused multiply-add), so the same bits, in half the instructions.
-    ///
-    /// # Safety
-    /// The CPU must have AVX.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    #[inline]
-    pub(crate) unsafe fn corners_avx(&self, base: usize, tf: f32, tb: f32, tl: f32) -> [f32; 4] {
-        use std::arch::x86_64::*;
-        let ns = self.ns;
-        // One bounds check for the four pairs, as in `corners`.
-        let d = &self.pairs[base..base + ns + 2];
-        let p = d.as_ptr() as *const f32;
-        // SAFETY: `d` has `ns + 2` entries of 8 f32, so the four 8-float loads (entries 0, 1,
-        // ns, ns + 1) are in it; unaligned loads.
-        let (d0, d1, d2, d3) = unsafe {
-            (
-                _mm256_loadu_ps(p),
-                _mm256_loadu_ps(p.add(8)),
-                _mm256_loadu_ps(p.add(8 * ns)),
-                _mm256_loadu_ps(p.add(8 * ns + 8)),
-            )
-        };
-        let (wf, wb) = (_mm256_set1_ps(tf), _mm256_set1_ps(tb));
-        let r0 = _mm256_add_ps(d0, _mm256_mul_ps(wf, _mm256_sub_ps(d1, d0)));
-        let r1 = _mm256_add_ps(d2, _mm256_mul_ps(wf, _mm256_sub_ps(d3, d2)));
-        let q = _mm256_add_ps(r0, _mm256_mul_ps(wb, _mm256_sub_ps(r1, r0)));
-        let (lo, hi) = (_mm256_castps256_ps128(q), _mm256_extractf128_ps::<1>(q));
-        let v = _mm_add_ps(lo, _mm_mul_ps(_mm_set1_ps(tl), _mm_sub_ps(hi, lo)));
-        let mut out = [0f32; 4];
-        // SAFETY: `out` holds four f32; unaligned store.
-        unsafe { _mm_storeu_ps(out.as_mut_ptr(), v) };
-        out
+/// Greatest common divisor.
+fn gcd(mut a: usize, mut b: usize) -> usize {
+    while b != 0 {
+        (a, b) = (b, a % b);
     }
+    a
 }
 
 /// Composites of the runs of `m` consecutive pieces of `e` (`e[i..i + m]` for each `i`), in
@@ -778,12 +734,13 @@ fn runs(e: &[Acc], m: usize, down: bool) -> Vec<Acc> {
 }
 
 #[inline(always)]
-fn lerp8(a: &[f32; 8], b: &[f32; 8], t: f32) -> [f32; 8] {
-    let mut r = [0f32; 8];
-    for k in 0..8 {
-        r[k] = a[k] + t * (b[k] - a[k]);
-    }
-    r
+fn lerp4(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
+    [
+        a[0] + t * (b[0] - a[0]),
+        a[1] + t * (b[1] - a[1]),
+        a[2] + t * (b[2] - a[2]),
+        a[3] + t * (b[3] - a[3]),
+    ]
 }
 
 #[cfg(test)]
@@ -960,7 +917,7 @@ mod tests {
         }
     }
 
-    /// The lookup as it was on one array of entries: eight corners, lerps along Sf, Sb, l.
+    /// The lookup with checked indexing: eight corners, lerps along Sf, Sb, l.
     fn reference_lookup(t: &PreintTable, sf: f32, sb: f32, l: f32) -> [f32; 4] {
         let lerp4 = |a: [f32; 4], b: [f32; 4], w: f32| {
             [
@@ -997,7 +954,7 @@ mod tests {
     }
 
     #[test]
-    fn paired_lookup_is_bit_identical_to_corners() {
+    fn lookup_matches_checked_trilinear() {
         let tf = tf();
         for (ns, nl) in [(65, 33), (2, 2), (7, 3)] {
             let t = PreintTable::build(&tf, ns, nl, 2.0);
@@ -1018,13 +975,6 @@ mod tests {
                 };
                 let (a, b) = (t.lookup(sf, sb, l), reference_lookup(&t, sf, sb, l));
                 assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "{sf} {sb} {l}");
-                #[cfg(target_arch = "x86_64")]
-                if t.avx() {
-                    let (base, wf, wb, wl) = t.locate(sf, sb, l);
-                    // SAFETY: the CPU has AVX (t.avx()).
-                    let v = unsafe { t.corners_avx(base, wf, wb, wl) };
-                    assert_eq!(v.map(f32::to_bits), b.map(f32::to_bits), "{sf} {sb} {l}");
-                }
             }
         }
     }

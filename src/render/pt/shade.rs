@@ -44,13 +44,7 @@ impl Shader {
         w: usize,
     ) -> (u64, usize) {
         match self {
-            Shader::Pre(tab) => {
-                #[cfg(target_arch = "x86_64")]
-                if tab.avx() {
-                    return raster(setup, parallel, tile, buf, stretch, w, &AvxTable(tab));
-                }
-                raster(setup, parallel, tile, buf, stretch, w, tab)
-            }
+            Shader::Pre(tab) => raster(setup, parallel, tile, buf, stretch, w, tab),
             Shader::Average(tf) => raster(
                 setup,
                 parallel,
@@ -121,28 +115,6 @@ impl Shade for PreintTable {
     #[inline(always)]
     fn at(&self, p: &TableLanes, i: usize) -> [f32; 4] {
         self.corners(p.base[i], p.w[0][i], p.w[1][i], p.w[2][i])
-    }
-}
-
-/// The table's lookups on 256-bit vectors ([`PreintTable::corners_avx`]), for a CPU with AVX:
-/// made only where [`PreintTable::avx`] says so.
-#[cfg(target_arch = "x86_64")]
-struct AvxTable<'a>(&'a PreintTable);
-
-#[cfg(target_arch = "x86_64")]
-impl Shade for AvxTable<'_> {
-    type Prep = TableLanes;
-    #[inline(always)]
-    fn prep(&self, f: &Lanes) -> TableLanes {
-        self.0.prep(f)
-    }
-    #[inline(always)]
-    fn at(&self, p: &TableLanes, i: usize) -> [f32; 4] {
-        // SAFETY: an AvxTable is only made when the CPU has AVX (`Shader::draw`).
-        unsafe {
-            self.0
-                .corners_avx(p.base[i], p.w[0][i], p.w[1][i], p.w[2][i])
-        }
     }
 }
 
