@@ -1,4 +1,4 @@
-//! The rasterizer: exact spans of each row of a tet's silhouette, (Sf, Sb, l) of a span's pixels in lanes, shaded and composited front to back.
+//! The rasterizer: each row's exactly covered pixels of a tet's silhouette, batched across rows into lanes for (Sf, Sb, l), shaded and composited front to back.
 
 use super::setup::TetSetup;
 use super::shade::{Lanes, Shade, LANES};
@@ -409,12 +409,14 @@ impl<S: Shade> Draw<'_, S> {
             };
             let dy = y as f32 + 0.5 - t.oy;
             let row = (y - ty0) as usize * tw;
-            let srow = &self.stretch[y as usize * self.width..][..self.width];
-            for x in xa..=xb {
-                let n = b.n;
+            let s0 = y as usize * self.width;
+            let run = &self.stretch[s0 + xa as usize..=s0 + xb as usize];
+            for (x, &st) in (xa..=xb).zip(run) {
+                // `b.n < LANES` always; the modulo only spares the bounds checks.
+                let n = b.n % LANES;
                 b.dx[n] = x as i32 as f32 + 0.5 - t.ox;
                 b.dy[n] = dy;
-                b.st[n] = srow[x as usize];
+                b.st[n] = st;
                 b.at[n] = row + (x - tx0) as usize;
                 b.n = n + 1;
                 if b.n == LANES {
