@@ -415,3 +415,107 @@ pub(crate) fn fragment_span(t: &TetSetup, parallel: bool, x: i64, y: i64) -> (f3
     };
     (zf, zb, ev(&rp.sref), ev(&rp.h))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::render::pt::project_points;
+    use proptest::prelude::*;
+
+    /// Pixel box of all four projected vertices, clamped to the image: what the set-up used to
+    /// bound a tet before the record kept only its silhouette.
+    fn vertex_box(p: &[Projected], w: i64, h: i64) -> Option<PixelBox> {
+        let xs = p.iter().map(|q| q.fx);
+        let ys = p.iter().map(|q| q.fy);
+        let (xmin, xmax) = (xs.clone().min()?, xs.max()?);
+        let (ymin, ymax) = (ys.clone().min()?, ys.max()?);
+        let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
+        let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
+        let b = (
+            lo(xmin).max(0),
+            lo(ymin).max(0),
+            hi(xmax).min(w - 1),
+            hi(ymax).min(h - 1),
+        );
+        (b.0 <= b.2 && b.1 <= b.3).then_some(b)
+    }
+
+    proptest! {
+        /// A record's box is the box of all four vertices (the silhouette holds them in every
+        /// class, the degenerate ones included), and it unfolds into the set-up the rasterizer
+        /// reads: the fitted front planes, then the back ones, unused slots repeating a side's
+        /// first plane.
+        #[test]
+        fn record_unfolds_to_the_setup(
+            pts in prop::array::uniform4(prop::array::uniform3(-1.0f64..1.0)),
+            s in prop::array::uniform4(0.0f64..1.0),
+            snap in 0usize..3,
+            parallel in any::<bool>(),
+        ) {
+            // A face seen exactly edge-on needs exact screen positions: a parallel view where
+            // multiples of 1/32 land on whole pixels, and vertex 3 above the middle of edge 0-1.
+            let exact = snap == 2;
+            let cam = Camera {
+                position: if exact { [0.0, 0.0, 4.0] } else { [0.3, -0.2, 4.0] },
+                parallel: parallel || exact,
+                parallel_scale: if exact { 1.0 } else { 1.5 },
+                ..Camera::default()
+            };
+            let (w, h) = if exact { (64u32, 64u32) } else { (97, 64) };
+            let view = View::new(&cam, w, h);
+            let mut pts = pts.to_vec();
+            match snap {
+                // Vertex 3 on vertex 2's view ray: an edge seen end-on.
+                1 => {
+                    let d = if parallel {
+                        [0.0, 0.0, -1.0]
+                    } else {
+                        geom::sub(&pts[2], &cam.position)
+                    };
+                    pts[3] = [0, 1, 2].map(|k| pts[2][k] + 0.1 * d[k]);
+                }
+                2 => {
+                    for p in &mut pts[..2] {
+                        p[0] = (p[0] * 32.0).round() / 32.0;
+                        p[1] = (p[1] * 32.0).round() / 32.0;
+                    }
+                    pts[3][0] = 0.5 * (pts[0][0] + pts[1][0]);
+                    pts[3][1] = 0.5 * (pts[0][1] + pts[1][1]);
+                }
+                _ => {}
+            }
+            let proj = project_points(&view, &pts);
+            let pv = [&proj[0], &proj[1], &proj[2], &proj[3]];
+            let mut st = PtStats::default();
+            if let Some((rec, b)) = setup_tet(&view, pv, s, &mut st) {
+                prop_assert_eq!(Some(b), vertex_box(&proj, w as i64, h as i64));
+                prop_assert_eq!(rec.clip_index(), None);
+                let su = rec.setup(w as i64, h as i64);
+                let sb = (su.x0 as i64, su.y0 as i64, su.x1 as i64, su.y1 as i64);
+                prop_assert_eq!(sb, b);
+                let (nf, nb) = (rec.nf as usize, rec.nb as usize);
+                prop_assert!(nf >= 1 && nb >= 1 && nf + nb <= 4);
+                for k in 0..3 {
+                    let f = rec.planes[if k < nf { k } else { 0 }];
+                    let bk = rec.planes[nf + if k < nb { k } else { 0 }];
+                    prop_assert_eq!(su.front[k].map(f32::to_bits), f.map(f32::to_bits));
+                    prop_assert_eq!(su.back[k].map(f32::to_bits), bk.map(f32::to_bits));
+                }
+                prop_assert_eq!(su.nedges, rec.nedges as u32);
+                prop_assert!(su.nedges == 3 || su.nedges == 4);
+            }
+        }
+    }
+
+    #[test]
+    fn records_are_two_cache_lines() {
+        assert_eq!(std::mem::size_of::<Prepared>(), 128);
+        assert_eq!(std::mem::align_of::<Prepared>(), 64);
+    }
+
+    #[test]
+    fn a_clipped_record_names_its_entry() {
+        assert_eq!(Prepared::clipped(7).clip_index(), Some(7));
+    }
+}
