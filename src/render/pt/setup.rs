@@ -198,10 +198,16 @@ impl Prepared {
     pub(crate) fn setup(&self, w: i64, h: i64) -> TetSetup {
         let (x0, y0, x1, y1) = pixel_bounds(&self.poly, w, h).unwrap_or((0, 0, -1, -1));
         let (nf, nb) = (self.nf as usize, self.nb as usize);
-        // Unused slots repeat the first plane of their side, as [`setup_tet`] left them.
-        let side = |first: usize, n: usize| {
-            [0, 1, 2].map(|k| self.planes[(first + if k < n { k } else { 0 }) & 3])
-        };
+        // Unused slots repeat the first plane of their side, as [`setup_tet`] left them. Each
+        // slot is picked by index straight into the set-up: building the sides as arrays first
+        // left them on the stack in 4- and 8-byte pieces that a wide copy then read back, which
+        // stalls store forwarding on every drawn tet.
+        let pl = &self.planes;
+        let (f1, f2) = ((nf > 1) as usize, 2 * (nf > 2) as usize);
+        let (b1, b2) = (
+            (nf + (nb > 1) as usize) & 3,
+            (nf + 2 * (nb > 2) as usize) & 3,
+        );
         TetSetup {
             poly: self.poly,
             nedges: self.nedges as u32,
@@ -211,8 +217,8 @@ impl Prepared {
             y1: y1 as i32,
             ox: self.ox,
             oy: self.oy,
-            front: side(0, nf),
-            back: side(nf, nb),
+            front: [pl[0], pl[f1], pl[f2]],
+            back: [pl[nf & 3], pl[b1], pl[b2]],
             w0: self.w0,
             sref: self.sref,
             h: self.h,
