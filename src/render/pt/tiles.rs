@@ -56,9 +56,42 @@ impl Frame<'_> {
             let b = clip_box(self.view, &pv, w, h)?;
             Some((Prep::Clipped(c, b), b))
         } else {
-            let (rec, b) = setup_tet(self.view, pv, s, st)?;
+            let mut rec = Prepared::clipped(0);
+            let b = setup_tet(self.view, &pv, s, st, &mut rec)?;
             Some((Prep::Tet(rec), b))
         }
+    }
+
+    /// [`Frame::prepare`] straight into `run`: pushes tet `t`'s record (and its clipping
+    /// set-up) and returns its pixel box, or `None` with nothing pushed when it draws nothing.
+    #[inline(always)]
+    fn prepare_into(&self, t: u32, run: &mut Run) -> Option<PixelBox> {
+        let tet = &self.tets[t as usize];
+        let pr = self.proj;
+        let pv = [
+            &pr[tet[0] as usize],
+            &pr[tet[1] as usize],
+            &pr[tet[2] as usize],
+            &pr[tet[3] as usize],
+        ];
+        let s = self.field.at(t as usize, tet);
+        if pv.iter().any(|p| !p.ok) {
+            run.stats.clipped += 1;
+            let (w, h) = (self.view.width as usize, self.view.height as usize);
+            let c = ClipSetup::new(pv, s)?;
+            let b = clip_box(self.view, &pv, w, h)?;
+            run.recs.push(Prepared::clipped(run.clipped.len() as u32));
+            run.clipped.push((c, b));
+            return Some(b);
+        }
+        // A placeholder the set-up overwrites in place (`recs` has room for the whole run).
+        run.recs.push(Prepared::clipped(0));
+        let n = run.recs.len();
+        let b = setup_tet(self.view, &pv, s, &mut run.stats, &mut run.recs[n - 1]);
+        if b.is_none() {
+            run.recs.pop();
+        }
+        b
     }
 
     /// What record `k` of `run` is drawn from.
@@ -221,10 +254,10 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
     for (i, &t) in chunk.iter().enumerate() {
         // The order visits the mesh's arrays out of their order: ask for the tet ahead, then
         // for the points of the one after it, which the tet's line has brought by then.
-        if let Some(&u) = chunk.get(i + 2 * AHEAD) {
+        if let Some(&u) = chunk.get(i + 4 * AHEAD) {
             prefetch(tets.as_ptr().wrapping_add(u as usize));
         }
-        if let Some(tet) = chunk.get(i + AHEAD).and_then(|&u| tets.get(u as usize)) {
+        if let Some(tet) = chunk.get(i + 2 * AHEAD).and_then(|&u| tets.get(u as usize)) {
             for &v in tet {
                 prefetch(proj.as_ptr().wrapping_add(v as usize));
                 if let Field::Point(s) = frame.field {
@@ -232,17 +265,10 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
                 }
             }
         }
-        let Some((prep, (x0, y0, x1, y1))) = frame.prepare(t, &mut run.stats) else {
+        let Some((x0, y0, x1, y1)) = frame.prepare_into(t, run) else {
             continue;
         };
-        let k = run.recs.len() as u32;
-        match prep {
-            Prep::Tet(r) => run.recs.push(r),
-            Prep::Clipped(c, b) => {
-                run.recs.push(Prepared::clipped(run.clipped.len() as u32));
-                run.clipped.push((c, b));
-            }
-        }
+        let k = run.tets.len() as u32;
         run.tets.push(t);
         for ty in (y0 as usize / TILE)..=(y1 as usize / TILE) {
             for tx in (x0 as usize / TILE)..=(x1 as usize / TILE) {
