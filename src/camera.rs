@@ -38,8 +38,16 @@ impl Default for Camera {
     }
 }
 
+/// Euclidean length, scaled by the largest component first so that coordinates near f64's range
+/// (a mesh with points at 1e200) do not overflow the squares.
 fn norm(v: &[f64; 3]) -> f64 {
-    dot(v, v).sqrt()
+    let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m > 0.0 && m.is_finite() {
+        let u = v.map(|x| x / m);
+        m * dot(&u, &u).sqrt()
+    } else {
+        dot(v, v).sqrt()
+    }
 }
 
 fn normalize(v: &[f64; 3]) -> [f64; 3] {
@@ -84,7 +92,7 @@ impl Camera {
         let dir = self.direction();
         let center = bounds.center();
         let e = bounds.extent();
-        let mut radius = 0.5 * dot(&e, &e).sqrt();
+        let mut radius = 0.5 * norm(&e);
         if radius == 0.0 || !radius.is_finite() {
             radius = 0.5;
         }

@@ -117,7 +117,11 @@ impl CameraArgs {
                 let dir = cam.direction();
                 let target = f.unwrap_or(center);
                 cam.focal = target;
-                cam.position = [0, 1, 2].map(|k| target[k] - dir[k]);
+                // A unit step would vanish next to coordinates beyond 2^53 (a mesh far from the
+                // origin, or a huge one): step by the target's own magnitude, which keeps the
+                // direction whatever the coordinates.
+                let step = 1.0 + target.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                cam.position = [0, 1, 2].map(|k| target[k] - step * dir[k]);
                 let mut fit = if bounds.is_empty() {
                     Aabb {
                         min: target,
@@ -184,8 +188,19 @@ impl CameraArgs {
 
 fn check_up(cam: &Camera) -> Result<()> {
     let d = sub(&cam.focal, &cam.position);
-    let c = cross(&d, &cam.up);
-    let scale = dot(&d, &d).sqrt() * dot(&cam.up, &cam.up).sqrt();
+    // Scaled to the largest component first, so coordinates near f64's range cannot overflow
+    // the squares into infinity (and the test into NaN).
+    let unit = |v: &[f64; 3]| {
+        let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if m > 0.0 && m.is_finite() {
+            v.map(|x| x / m)
+        } else {
+            *v
+        }
+    };
+    let (dn, upn) = (unit(&d), unit(&cam.up));
+    let c = cross(&dn, &upn);
+    let scale = dot(&dn, &dn).sqrt() * dot(&upn, &upn).sqrt();
     if scale.is_nan() || scale <= 0.0 || dot(&c, &c).sqrt() <= 1e-12 * scale {
         bail!(
             "view-up {:?} is parallel to the view direction {:?} (or zero): give another --up",

@@ -1,6 +1,5 @@
 //! `tetkit classify`: each tet's region code for a scene, written as cell data for ParaView.
 
-use anyhow::Context;
 use clap::Args;
 use formats::{ArrayData, DataArray};
 use std::collections::BTreeMap;
@@ -33,24 +32,27 @@ pub struct ClassifyArgs {
 pub fn run(args: &ClassifyArgs) -> anyhow::Result<()> {
     let scene = scene::load(&args.scene)?;
     let grid = super::read_input(&args.input)?;
-    let mut mesh =
-        TetMesh::from_grid(&grid).with_context(|| format!("{}", args.input.display()))?;
+    // Meshes with other cells (TetGen's .face triangles, Gmsh's boundary elements, quadratic
+    // cells) are classified through their tets; each input cell gets the union of its tets'
+    // codes (0 for cells below 3-D), so the output keeps every input cell and array.
+    let (mesh, input_cell) =
+        super::tets_with_input_cells(&grid, &args.input.display().to_string())?;
     let t0 = std::time::Instant::now();
     let fallbacks0 = scene::frustum::exact_fallbacks();
     let codes = scene::classify::classify(&scene, &mesh);
     let classify_s = t0.elapsed().as_secs_f64();
     let fallbacks = scene::frustum::exact_fallbacks() - fallbacks0;
-    if mesh.cell_data.get("region_code").is_some() {
+    if grid.cell_data.get("region_code").is_some() {
         eprintln!("tetkit: replacing the input's cell array 'region_code'");
     }
-    mesh.cell_data.insert(DataArray::new(
-        "region_code",
-        1,
-        ArrayData::UInt8(codes.clone()),
-    ));
-    let out = mesh.to_grid();
+    let mut per_cell = vec![0u8; grid.num_cells()];
+    for (&c, &code) in input_cell.iter().zip(&codes) {
+        per_cell[c] |= code;
+    }
     let mut out_grid = grid;
-    out_grid.cell_data = out.cell_data;
+    out_grid
+        .cell_data
+        .insert(DataArray::new("region_code", 1, ArrayData::UInt8(per_cell)));
     formats::write(&args.output, &out_grid, &formats::WriteOptions::default())?;
     if args.json {
         let report = report(&scene, &mesh, &codes, args.size, (classify_s, fallbacks));

@@ -92,3 +92,44 @@ pub fn read_input(path: &std::path::Path) -> anyhow::Result<formats::Grid> {
     }
     Ok(formats::read(path)?)
 }
+
+/// The tets of any mesh for the commands that answer per input cell (probe, classify): tets
+/// kept, other 3-D cells tetrahedralized, lower cells (TetGen's `.face` triangles, Gmsh's
+/// boundary elements) dropped, as every view command does, with notes on stderr. Returns the
+/// mesh and, for each of its tets, the index of the input cell it belongs to.
+pub fn tets_with_input_cells(
+    grid: &formats::Grid,
+    name: &str,
+) -> anyhow::Result<(crate::mesh::TetMesh, Vec<usize>)> {
+    use anyhow::Context;
+    use formats::{cell_type, ArrayData, DataArray};
+    if grid.cells.types.iter().all(|&t| t == cell_type::TETRA) {
+        let mesh = crate::mesh::TetMesh::from_grid(grid).with_context(|| name.to_string())?;
+        let cells = (0..mesh.tets.len()).collect();
+        return Ok((mesh, cells));
+    }
+    // A private cell array rides through dropping and tetrahedralization (both gather cell
+    // data by parent), so each tet names its input cell whatever the input already carries.
+    const TAG: &str = "tetkit:input_cell";
+    let mut tagged = grid.clone();
+    tagged.cell_data.insert(DataArray::new(
+        TAG,
+        1,
+        ArrayData::Int64((0..grid.num_cells() as i64).collect()),
+    ));
+    let (mut mesh, _, notes) = crate::partition::input::tets_of(&tagged, name)?;
+    for n in notes {
+        eprintln!("tetkit: {n}");
+    }
+    let cells = match mesh.cell_data.get(TAG) {
+        Some(a) => a
+            .data
+            .to_f64_vec()
+            .into_iter()
+            .map(|v| v as usize)
+            .collect(),
+        None => anyhow::bail!("{name}: the input cell of each tet was lost"),
+    };
+    mesh.cell_data.arrays.retain(|a| a.name != TAG);
+    Ok((mesh, cells))
+}

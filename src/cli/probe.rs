@@ -126,7 +126,10 @@ pub fn probe(mesh: &TetMesh, loc: &TetLocator, points: &[[f64; 3]]) -> Vec<Probe
 pub fn run(args: &ProbeArgs) -> Result<()> {
     let points = gather_points(&args.points)?;
     let grid = super::read_input(&args.input)?;
-    let mesh = TetMesh::from_grid(&grid).with_context(|| format!("{}", args.input.display()))?;
+    // Meshes with other cells (TetGen's .face triangles, Gmsh's boundary elements, quadratic
+    // cells) are probed through their tets; `tet` reports the input cell that holds the point.
+    let (mesh, input_cell) =
+        super::tets_with_input_cells(&grid, &args.input.display().to_string())?;
     let params = GridParams {
         lambda: args.lambda,
         alpha: args.alpha,
@@ -153,7 +156,10 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
             build_s
         );
     }
-    let results = probe(&mesh, &loc, &points);
+    let results: Vec<Probed> = probe(&mesh, &loc, &points)
+        .into_iter()
+        .map(|r| r.map(|(t, v)| (input_cell[t as usize] as u32, v)))
+        .collect();
     let mut out = String::new();
     if args.json {
         for (p, r) in points.iter().zip(&results) {

@@ -197,13 +197,20 @@ fn fill_typed(
 
 /// A numeric array of exactly `need` values (when known).
 pub(crate) fn numeric(inp: &Input, a: &ArrayXml, need: Option<usize>) -> Result<ArrayData> {
-    let ElemType::Num(ty) = a.ty else {
-        return Err(err_at(
-            a.tag_pos,
-            a,
-            "is a String array where numbers are needed",
-        ));
+    let ty = match a.ty {
+        ElemType::Num(ty) => ty,
+        ElemType::String => {
+            return Err(err_at(
+                a.tag_pos,
+                a,
+                "is a String array where numbers are needed",
+            ))
+        }
+        ElemType::Bit => ScalarType::UInt8,
     };
+    if a.ty == ElemType::Bit {
+        return bits(inp, a, need).map(ArrayData::UInt8);
+    }
     if a.format == DataFormat::Ascii {
         return ascii(a, ty, need);
     }
@@ -262,6 +269,49 @@ pub(crate) fn ids(inp: &Input, a: &ArrayXml, n: usize, lead: usize) -> Result<Ve
         ArrayData::UInt8(d) => v.extend(d.into_iter().map(i64::from)),
     }
     Ok(v)
+}
+
+/// A Bit array (vtkBitArray) as one 0/1 byte per value. Ascii data lists the values; binary data
+/// packs them eight to a byte, most significant bit first, in `ceil(n / 8)` bytes, so the value
+/// count cannot be inferred from the data: it must be known (`NumberOfTuples` or the mesh).
+pub(crate) fn bits(inp: &Input, a: &ArrayXml, need: Option<usize>) -> Result<Vec<u8>> {
+    if a.format == DataFormat::Ascii {
+        let ArrayData::UInt8(v) = ascii(a, ScalarType::UInt8, need)? else {
+            return Err(err_at(a.text_pos, a, "ascii bits did not parse as bytes"));
+        };
+        if let Some(i) = v.iter().position(|&b| b > 1) {
+            return Err(err_at(
+                a.text_pos,
+                a,
+                format!("value {i} ({}) of a Bit array is not 0 or 1", v[i]),
+            ));
+        }
+        return Ok(v);
+    }
+    let Some(n) = need else {
+        return Err(err_at(
+            a.tag_pos,
+            a,
+            "a binary Bit array needs NumberOfTuples (its bytes do not say how many bits are used)",
+        ));
+    };
+    let packed = with_binary(inp, a, |region, plan| {
+        let bytes = n.div_ceil(8);
+        if plan.total() != bytes as u64 {
+            return Err(err_at(
+                region.file_pos,
+                a,
+                format!(
+                    "declares {} bytes of data, but {n} bits need {bytes} bytes",
+                    plan.total()
+                ),
+            ));
+        }
+        let mut v = vec![0u8; bytes];
+        block::fill(region, &inp.layout, plan, &mut v, &a.name)?;
+        Ok(v)
+    })?;
+    Ok((0..n).map(|i| (packed[i / 8] >> (7 - i % 8)) & 1).collect())
 }
 
 /// A String array: NUL-terminated UTF-8 strings (binary), or their byte values (ascii).

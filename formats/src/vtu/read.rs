@@ -143,6 +143,7 @@ fn array(inp: &Input, a: &ArrayXml, need: Option<usize>) -> Result<DataArray> {
     let data = match a.ty {
         ElemType::String => ArrayData::String(decode::strings(inp, a, need)?),
         ElemType::Num(_) => decode::numeric(inp, a, need)?,
+        ElemType::Bit => ArrayData::UInt8(decode::bits(inp, a, need)?),
     };
     if need.is_none() && data.len() % a.components != 0 {
         return Err(FormatError::at_byte(

@@ -20,6 +20,9 @@ pub(crate) enum DataFormat {
 pub(crate) enum ElemType {
     Num(ScalarType),
     String,
+    /// vtkBitArray: one bit per value, packed most significant bit first in binary data; read
+    /// as UInt8 0/1, as the legacy reader does.
+    Bit,
 }
 
 /// One `<DataArray>` or `<Array>` element.
@@ -185,11 +188,12 @@ fn array_from(a: &[(String, String)], pos: u64) -> Result<ArrayXml> {
     let ty_name = get(a, "type").ok_or_else(|| here("no type attribute".into()))?;
     let ty = match ty_name {
         "String" => ElemType::String,
+        "Bit" => ElemType::Bit,
         // VTK 9 writes vtkIdTypeArray as Int64/Int32; older files may say IdType (64-bit builds).
         "IdType" => ElemType::Num(ScalarType::Int64),
         t => ElemType::Num(ScalarType::from_xml_name(t).ok_or_else(|| {
             here(format!(
-                "unsupported type \"{t}\" (Int8..UInt64, Float32, Float64, String)"
+                "unsupported type \"{t}\" (Int8..UInt64, Float32, Float64, Bit, String)"
             ))
         })?),
     };

@@ -1,9 +1,9 @@
 //! The rasterizer: each row's exactly covered pixels of a tet's silhouette, batched across rows into lanes for (Sf, Sb, l), shaded and composited front to back.
 
 use super::setup::TetSetup;
-use super::shade::{Lanes, Shade, LANES};
+use super::shade::{Drawn, Lanes, Shade, LANES};
 use super::tiles::Tile;
-use super::{OPAQUE, SUB};
+use super::SUB;
 
 /// An edge prepared for [`span`]: its value at pixel `x` of row `y` is `ea x + k0 + k1 y`.
 #[derive(Clone, Copy)]
@@ -297,13 +297,6 @@ fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> Lanes {
     [sf, sb, l]
 }
 
-/// What a tet's drawing counts: fragments drawn and pixels that became opaque.
-#[derive(Default)]
-struct Drawn {
-    frags: u64,
-    opaque: usize,
-}
-
 /// Shades the first `b.n` lanes of a batch and composites them behind what `buf` holds.
 #[inline(always)]
 fn flush<S: Shade>(
@@ -315,23 +308,7 @@ fn flush<S: Shade>(
     d: &mut Drawn,
 ) {
     let f = fragments(t, parallel, b);
-    let prep = shade.prep(&f);
-    for i in 0..b.n {
-        let slot = &mut buf[b.at[i]];
-        if slot[3] >= OPAQUE {
-            continue;
-        }
-        let c = shade.at(&prep, i);
-        let k = 1.0 - slot[3];
-        slot[0] += k * c[0];
-        slot[1] += k * c[1];
-        slot[2] += k * c[2];
-        slot[3] += k * c[3];
-        d.frags += 1;
-        if slot[3] >= OPAQUE {
-            d.opaque += 1;
-        }
-    }
+    shade.composite(&f, &b.at, b.n, buf, d);
 }
 
 /// Rasterizes one tet into a tile buffer (front to back). Returns fragments drawn and how many

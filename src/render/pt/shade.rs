@@ -3,6 +3,7 @@
 use super::raster::raster;
 use super::setup::TetSetup;
 use super::tiles::Tile;
+use super::OPAQUE;
 use crate::render::integrate::{FastTf, Integration, PreintTable};
 
 /// Per-pixel shading of a fragment.
@@ -68,12 +69,62 @@ pub(crate) const LANES: usize = 8;
 /// (Sf, Sb, l) of [`LANES`] fragments.
 pub(crate) type Lanes = [[f32; LANES]; 3];
 
+/// What a tet's drawing counts: fragments drawn and pixels that became opaque.
+#[derive(Default)]
+pub(crate) struct Drawn {
+    pub(crate) frags: u64,
+    pub(crate) opaque: usize,
+}
+
 /// Colour and opacity of fragments for the rasterizer: per-lane arithmetic for [`LANES`]
 /// fragments at once (it vectorizes), then per-pixel reads for the lanes that are drawn.
 pub(crate) trait Shade {
     type Prep;
     fn prep(&self, f: &Lanes) -> Self::Prep;
     fn at(&self, p: &Self::Prep, i: usize) -> [f32; 4];
+
+    /// Shades lanes `0..n` of `f` and composites each behind what `buf[at[i]]` holds (a pixel
+    /// past [`OPAQUE`] takes nothing). Lanes `0..n` are distinct pixels.
+    #[inline(always)]
+    fn composite(
+        &self,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        composite_lanes(self, f, at, n, buf, d)
+    }
+}
+
+/// [`Shade::composite`] one lane at a time: the definition every faster path matches bit for bit.
+#[inline(always)]
+pub(crate) fn composite_lanes<S: Shade + ?Sized>(
+    shade: &S,
+    f: &Lanes,
+    at: &[usize; LANES],
+    n: usize,
+    buf: &mut [[f32; 4]],
+    d: &mut Drawn,
+) {
+    let prep = shade.prep(f);
+    for i in 0..n.min(LANES) {
+        let slot = &mut buf[at[i]];
+        if slot[3] >= OPAQUE {
+            continue;
+        }
+        let c = shade.at(&prep, i);
+        let k = 1.0 - slot[3];
+        slot[0] += k * c[0];
+        slot[1] += k * c[1];
+        slot[2] += k * c[2];
+        slot[3] += k * c[3];
+        d.frags += 1;
+        if slot[3] >= OPAQUE {
+            d.opaque += 1;
+        }
+    }
 }
 
 /// Table corners and weights of [`LANES`] lookups.
@@ -116,6 +167,200 @@ impl Shade for PreintTable {
     fn at(&self, p: &TableLanes, i: usize) -> [f32; 4] {
         self.corners(p.base[i], p.w[0][i], p.w[1][i], p.w[2][i])
     }
+    #[inline(always)]
+    fn composite(
+        &self,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && x86::fits(self) {
+            // SAFETY: the CPU has AVX2 and the table is one `x86::composite_pre` takes, both
+            // checked just above.
+            unsafe { x86::composite_pre(self, f, at, n, buf, d) };
+            return;
+        }
+        composite_lanes(self, f, at, n, buf, d)
+    }
+}
+
+/// The pre-integrated lookup and composite in explicit AVX2: two fragments a register (one per
+/// 128-bit half, RGBA in its four floats), so each trilinear step is three instructions for
+/// both, and two pixels composite at once. Every operation is the scalar path's, in its order,
+/// on the same operands: the same bits.
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use super::{Drawn, Lanes, LANES, OPAQUE};
+    use crate::render::integrate::PreintTable;
+    use std::arch::x86_64::*;
+
+    /// Whether `t` is a table [`composite_pre`] can take: well formed (at least two entries
+    /// on each axis, `data` exactly `ns * ns * nl` long) and indexable in `i32`.
+    #[inline(always)]
+    pub(super) fn fits(t: &PreintTable) -> bool {
+        t.ns >= 2
+            && t.nl >= 2
+            && t.ns.checked_mul(t.ns).and_then(|a| a.checked_mul(t.nl)) == Some(t.data.len())
+            && t.data.len() <= i32::MAX as usize
+    }
+
+    /// `a + t (b - a)`, each lane as [`PreintTable::corners`] computes it.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn lerp(a: __m256, b: __m256, t: __m256) -> __m256 {
+        _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a)))
+    }
+
+    /// `x.max(0.0).min(hi)` as the scalar path computes it (NaN becomes 0, -0 stays -0).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn clamp0(x: __m256, hi: __m256) -> __m256 {
+        let m = _mm256_and_ps(
+            _mm256_max_ps(_mm256_setzero_ps(), x),
+            _mm256_cmp_ps::<_CMP_ORD_Q>(x, x),
+        );
+        _mm256_min_ps(hi, m)
+    }
+
+    /// The two 16-byte entries at `p` and `q` as the low and high half of one register.
+    ///
+    /// # Safety
+    /// `p` and `q` each point to 16 readable bytes.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    unsafe fn pair(p: *const [f32; 4], q: *const [f32; 4]) -> __m256 {
+        // SAFETY: the caller's promise.
+        unsafe {
+            _mm256_insertf128_ps::<1>(
+                _mm256_castps128_ps256(_mm_loadu_ps(p.cast())),
+                _mm_loadu_ps(q.cast()),
+            )
+        }
+    }
+
+    /// [`super::composite_lanes`] for a [`PreintTable`], two lanes at a time.
+    ///
+    /// # Safety
+    /// The CPU has AVX2, and [`fits`] holds for `t`.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn composite_pre(
+        t: &PreintTable,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        // The weights and corners as `PreintTable::prep` computes them, in registers.
+        let load = |v: &[f32; LANES]| {
+            // SAFETY: `v` holds 8 floats, and the CPU has AVX (implied by AVX2, which this
+            // closure's caller checked).
+            unsafe { _mm256_loadu_ps(v.as_ptr()) }
+        };
+        let (sf, sb, l) = (load(&f[0]), load(&f[1]), load(&f[2]));
+        let s0 = _mm256_set1_ps(t.s0);
+        let inv_ds = _mm256_set1_ps(t.inv_ds);
+        let top = _mm256_set1_ps((t.ns - 1) as f32);
+        let xf = clamp0(_mm256_mul_ps(_mm256_sub_ps(sf, s0), inv_ds), top);
+        let xb = clamp0(_mm256_mul_ps(_mm256_sub_ps(sb, s0), inv_ds), top);
+        let xl = clamp0(
+            _mm256_mul_ps(l, _mm256_set1_ps(t.inv_dl)),
+            _mm256_set1_ps((t.nl - 1) as f32),
+        );
+        let (ns, nl) = (t.ns as i32, t.nl as i32);
+        // Truncation of values in [0, ns - 1] or [0, nl - 1], as `to_int_unchecked`.
+        let a = _mm256_min_epi32(_mm256_cvttps_epi32(xf), _mm256_set1_epi32(ns - 2));
+        let b = _mm256_min_epi32(_mm256_cvttps_epi32(xb), _mm256_set1_epi32(ns - 2));
+        let c = _mm256_min_epi32(_mm256_cvttps_epi32(xl), _mm256_set1_epi32(nl - 2));
+        let wf = _mm256_sub_ps(xf, _mm256_cvtepi32_ps(a));
+        let wb = _mm256_sub_ps(xb, _mm256_cvtepi32_ps(b));
+        let wl = _mm256_sub_ps(xl, _mm256_cvtepi32_ps(c));
+        let nsv = _mm256_set1_epi32(ns);
+        let base = _mm256_add_epi32(
+            _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(c, nsv), b), nsv),
+            a,
+        );
+        let mut bases = [0i32; LANES];
+        // SAFETY: `bases` holds 8 `i32`.
+        unsafe { _mm256_storeu_si256(bases.as_mut_ptr().cast(), base) };
+
+        let data = t.data.as_ptr();
+        let (o1, o2) = (t.ns, t.ns * t.ns);
+        let opaque = _mm256_set1_ps(OPAQUE);
+        let one = _mm256_set1_ps(1.0);
+        let out = buf.as_mut_ptr();
+        let n = n.min(LANES);
+        let mut i = 0;
+        while i < n {
+            let j = i + 1;
+            let both = j < n;
+            let (ai, aj) = (at[i], if both { at[j] } else { at[i] });
+            if ai >= buf.len() || aj >= buf.len() {
+                // Never: the rasterizer only hands pixels of the tile.
+                i += 2;
+                continue;
+            }
+            // SAFETY: `ai` and `aj` are inside `buf`, checked just above.
+            let (pi, pj) = unsafe { (out.add(ai), out.add(aj)) };
+            // SAFETY: `pi` and `pj` point into `buf`.
+            let s = unsafe { pair(pi, pj) };
+            let alpha = _mm256_permute_ps::<0xff>(s);
+            // Lanes whose pixel still takes fragments (NaN included, as `!(a >= OPAQUE)`).
+            let mut live = _mm256_cmp_ps::<_CMP_NGE_UQ>(alpha, opaque);
+            if !both {
+                live = _mm256_blend_ps::<0xf0>(live, _mm256_setzero_ps());
+            }
+            let bits = _mm256_movemask_ps(live);
+            if bits == 0 {
+                i += 2;
+                continue;
+            }
+            // Each half's weights: lane i's in the low half, lane j's in the high one.
+            let idx = _mm256_setr_epi32(
+                i as i32, i as i32, i as i32, i as i32, j as i32, j as i32, j as i32, j as i32,
+            );
+            let tf = _mm256_permutevar8x32_ps(wf, idx);
+            let tb = _mm256_permutevar8x32_ps(wb, idx);
+            let tl = _mm256_permutevar8x32_ps(wl, idx);
+            // SAFETY: every base is `(c ns + b) ns + a` with `a, b` in [0, ns - 2] and `c` in
+            // [0, nl - 2] (clamped above; `fits` makes the products exact in i32), so
+            // `base + ns ns + ns + 1 <= nl ns ns - 1 < data.len()`: every corner read below
+            // lies in the table.
+            let v = unsafe {
+                let qi = data.add(bases[i] as usize);
+                let qj = data.add(bases[j.min(LANES - 1)] as usize);
+                let c = |o: usize| pair(qi.add(o), qj.add(o));
+                let p0 = lerp(lerp(c(0), c(1), tf), lerp(c(o1), c(o1 + 1), tf), tb);
+                let p1 = lerp(
+                    lerp(c(o2), c(o2 + 1), tf),
+                    lerp(c(o2 + o1), c(o2 + o1 + 1), tf),
+                    tb,
+                );
+                lerp(p0, p1, tl)
+            };
+            let k = _mm256_sub_ps(one, alpha);
+            let new = _mm256_blendv_ps(s, _mm256_add_ps(s, _mm256_mul_ps(k, v)), live);
+            let full = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(
+                _mm256_permute_ps::<0xff>(new),
+                opaque,
+            )) & bits;
+            d.frags += ((bits & 1) + (bits >> 4 & 1)) as u64;
+            d.opaque += ((full & 1) + (full >> 4 & 1)) as usize;
+            // SAFETY: `pi` and `pj` point into `buf` (distinct pixels, or the same when only
+            // lane i is drawn, whose value is then stored last).
+            unsafe {
+                if both {
+                    _mm_storeu_ps(pj.cast(), _mm256_extractf128_ps::<1>(new));
+                }
+                _mm_storeu_ps(pi.cast(), _mm256_castps256_ps128(new));
+            }
+            i += 2;
+        }
+    }
 }
 
 /// A transfer function evaluated at both ends of each fragment as a [`Shade`]: VTK's averaged
@@ -135,5 +380,119 @@ impl<const LINEAR: bool> Shade for TfShade<'_, LINEAR> {
         } else {
             self.0.average(f[0][i], f[1][i], f[2][i])
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
+
+    /// A xorshift stream of floats in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    /// A value around `[lo, hi]`, now and then one the clamps must catch.
+    fn value(r: &mut Rng, lo: f32, hi: f32) -> f32 {
+        const ODD: [f32; 8] = [
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            -0.0,
+            0.0,
+            1e30,
+            -1e30,
+            f32::MIN_POSITIVE,
+        ];
+        if r.next() < 0.1 {
+            ODD[(r.next() * 8.0) as usize % 8]
+        } else {
+            lo + (hi - lo) * (r.next() * 1.4 - 0.2)
+        }
+    }
+
+    /// Runs `run` on the same random batches as [`composite_lanes`] for `table`: every path
+    /// must leave the same bits in the buffer and the same counts.
+    fn same_as_lanes(
+        table: &PreintTable,
+        run: impl Fn(&PreintTable, &Lanes, &[usize; LANES], usize, &mut [[f32; 4]], &mut Drawn),
+    ) {
+        let mut r = Rng(0x9e37_79b9_7f4a_7c15);
+        let npix = 64;
+        for case in 0..20_000 {
+            let mut f = [[0f32; LANES]; 3];
+            for (k, lanes) in f.iter_mut().enumerate() {
+                let hi = if k < 2 { 3.0 } else { table.lmax as f32 };
+                for v in lanes.iter_mut() {
+                    *v = value(&mut r, if k < 2 { -1.0 } else { 0.0 }, hi);
+                }
+            }
+            // Distinct pixels, some already (nearly) opaque, one now and then NaN.
+            let mut at = [0usize; LANES];
+            let start = (r.next() * npix as f32) as usize;
+            for (i, a) in at.iter_mut().enumerate() {
+                *a = (start + 7 * i) % npix;
+            }
+            let mut buf = vec![[0f32; 4]; npix];
+            for p in buf.iter_mut() {
+                let a = match (r.next() * 6.0) as usize {
+                    0 => 0.0,
+                    1 => OPAQUE,
+                    2 => 1.0,
+                    3 if r.next() < 0.05 => f32::NAN,
+                    _ => r.next(),
+                };
+                *p = [r.next() * a, r.next() * a, r.next() * a, a];
+            }
+            let n = case % (LANES + 1);
+            let (mut want, mut got) = (buf.clone(), buf);
+            let (mut dw, mut dg) = (Drawn::default(), Drawn::default());
+            composite_lanes(table, &f, &at, n, &mut want, &mut dw);
+            run(table, &f, &at, n, &mut got, &mut dg);
+            let bits = |b: &[[f32; 4]]| b.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+            assert_eq!(bits(&got), bits(&want), "case {case}: {f:?} n {n}");
+            assert_eq!((dg.frags, dg.opaque), (dw.frags, dw.opaque), "case {case}");
+        }
+    }
+
+    fn tables() -> Vec<PreintTable> {
+        let tf = TransferFunction::build(
+            &named_colormap("viridis").unwrap(),
+            Some(&OpacitySpec::parse("0:0.1,0.5:0.9,1:0.3").unwrap()),
+            [0.0, 2.0],
+            0.5,
+            17,
+        )
+        .unwrap();
+        vec![
+            PreintTable::build(&tf, 33, 9, 2.0),
+            PreintTable::build(&tf, 2, 2, 1.0),
+        ]
+    }
+
+    #[test]
+    fn every_composite_path_gives_the_same_bits() {
+        let mut paths = 0;
+        for t in tables() {
+            // The dispatching entry point, whatever path it takes on this CPU.
+            same_as_lanes(&t, |t, f, at, n, buf, d| t.composite(f, at, n, buf, d));
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                assert!(x86::fits(&t));
+                // SAFETY: the CPU has AVX2 and `fits` holds, both checked just above.
+                same_as_lanes(&t, |t, f, at, n, buf, d| unsafe {
+                    x86::composite_pre(t, f, at, n, buf, d)
+                });
+                paths += 1;
+            }
+        }
+        eprintln!("explicit SIMD paths checked: {paths}");
     }
 }

@@ -342,8 +342,28 @@ unsafe fn draw_tile_avx2<D: TileDraw>(d: &D, runs: &[Run], ti: usize, acc: &mut 
     draw_tile(d, runs, ti, acc)
 }
 
+/// [`draw_tile`] compiled for AVX-512 (F and VL): the same 8-lane code, but with 32 vector
+/// registers the lanes spill far less. Still no fused multiply-add: the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+unsafe fn draw_tile_avx512<D: TileDraw>(
+    d: &D,
+    bins: &[Run],
+    ti: usize,
+    tile: Tile,
+) -> TileOut<D::State> {
+    draw_tile(d, bins, ti, tile)
+}
+
 /// [`draw_tile`] with the widest instruction set the CPU has.
 fn draw_tile_best<D: TileDraw>(d: &D, runs: &[Run], ti: usize, acc: &mut TileAcc<D::State>) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx512vl")
+    {
+        // SAFETY: the CPU has AVX-512F and VL (and so AVX2), checked just above.
+        return unsafe { draw_tile_avx512(d, bins, ti, tile) };
+    }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
