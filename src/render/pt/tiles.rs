@@ -348,11 +348,11 @@ unsafe fn draw_tile_avx2<D: TileDraw>(d: &D, runs: &[Run], ti: usize, acc: &mut 
 #[target_feature(enable = "avx2,avx512f,avx512vl")]
 unsafe fn draw_tile_avx512<D: TileDraw>(
     d: &D,
-    bins: &[Run],
+    runs: &[Run],
     ti: usize,
-    tile: Tile,
-) -> TileOut<D::State> {
-    draw_tile(d, bins, ti, tile)
+    acc: &mut TileAcc<D::State>,
+) {
+    draw_tile(d, runs, ti, acc)
 }
 
 /// [`draw_tile`] with the widest instruction set the CPU has.
@@ -362,7 +362,7 @@ fn draw_tile_best<D: TileDraw>(d: &D, runs: &[Run], ti: usize, acc: &mut TileAcc
         && std::arch::is_x86_feature_detected!("avx512vl")
     {
         // SAFETY: the CPU has AVX-512F and VL (and so AVX2), checked just above.
-        return unsafe { draw_tile_avx512(d, bins, ti, tile) };
+        return unsafe { draw_tile_avx512(d, runs, ti, acc) };
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
