@@ -87,14 +87,70 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
     };
     let mut grid = super::read_input(&args.input)?;
     if args.tetrahedralize {
-        // TetGen files hold only tets; every other format keeps the boundary cells too.
-        let keep_lower = format != Format::TetGen;
-        let (tets, report) = tetrahedralize(&grid, keep_lower)
+        let (tets, report) = tetrahedralize(&grid, true)
             .with_context(|| format!("{}: tetrahedralizing", args.input.display()))?;
         for line in report.lines() {
             eprintln!("tetkit: {line}");
         }
         grid = tets;
+        if format == Format::TetGen {
+            // TetGen files hold tets and boundary triangles (.face): other lower cells go.
+            let keep: Vec<usize> = (0..grid.num_cells())
+                .filter(|&i| {
+                    matches!(
+                        grid.cells.types[i],
+                        formats::cell_type::TETRA | formats::cell_type::TRIANGLE
+                    )
+                })
+                .collect();
+            if keep.len() < grid.num_cells() {
+                eprintln!(
+                    "tetkit: dropped {} cells that TetGen files cannot hold (vertices, lines, quads, polygons...); tets and triangles are kept",
+                    grid.num_cells() - keep.len()
+                );
+                grid = crate::partition::input::keep_cells(&grid, &keep);
+            }
+        }
+    }
+    if format == Format::TetGen && !to_stdout {
+        // Said, not silent: what TetGen's columns of reals cannot hold.
+        let mut lost: Vec<String> = Vec::new();
+        for (what, attrs) in [("point", &grid.point_data), ("cell", &grid.cell_data)] {
+            for a in attrs
+                .arrays
+                .iter()
+                .filter(|a| a.data.scalar_type().is_none())
+            {
+                lost.push(format!("{what} array '{}' (strings)", a.name));
+            }
+        }
+        lost.extend(
+            grid.field_data
+                .iter()
+                .map(|a| format!("field data '{}'", a.name)),
+        );
+        use formats::cell_type as ct;
+        if let Some(i) = grid.cells.types.iter().position(|&t| {
+            !matches!(
+                t,
+                ct::TETRA | ct::QUADRATIC_TETRA | ct::TRIANGLE | ct::QUADRATIC_TRIANGLE
+            )
+        }) {
+            bail!(
+                "{}: TetGen files hold tetrahedra and their boundary triangles only, but cell {i} is a {}; add --tetrahedralize",
+                args.output.display(),
+                ct::name(grid.cells.types[i])
+            );
+        }
+        formats::write(&args.output, &grid, &args.write_options())?;
+        if !lost.is_empty() {
+            eprintln!(
+                "tetkit: {}: TetGen files cannot hold {}: not written (use .vtu or .vtk to keep them)",
+                args.output.display(),
+                lost.join(", ")
+            );
+        }
+        return Ok(());
     }
     let opts = args.write_options();
     if to_stdout {
@@ -106,20 +162,6 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
             .and_then(|_| std::io::Write::flush(&mut out))
             .context("writing stdout")?;
         return Ok(());
-    }
-    if format == Format::TetGen {
-        if let Some(i) = grid
-            .cells
-            .types
-            .iter()
-            .position(|&t| t != formats::cell_type::TETRA)
-        {
-            bail!(
-                "{}: TetGen files hold only linear tetrahedra, but cell {i} is a {}; add --tetrahedralize",
-                args.output.display(),
-                formats::cell_type::name(grid.cells.types[i])
-            );
-        }
     }
     formats::write(&args.output, &grid, &opts)?;
     Ok(())
