@@ -112,6 +112,26 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
             }
         }
     }
+    if format == Format::Legacy && matches!(args.encoding, EncodingArg::Ascii) {
+        // tetkit reads nan/inf back, VTK 9.1 does not (it stops reading the file there).
+        let bad: Vec<&str> = std::iter::once(&grid.points)
+            .chain(&grid.point_data.arrays)
+            .chain(&grid.cell_data.arrays)
+            .chain(&grid.field_data)
+            .filter(|a| {
+                a.data.scalar_type().is_some_and(|t| t.is_float())
+                    && (0..a.data.len()).any(|i| !a.data.get_f64(i).is_finite())
+            })
+            .map(|a| a.name.as_str())
+            .collect();
+        if !bad.is_empty() {
+            eprintln!(
+                "tetkit: warning: {}: arrays {} hold NaN or infinite values, which VTK 9.1 cannot read from an ascii legacy file (tetkit can); --encoding binary keeps them readable by both",
+                if to_stdout { "<stdout>".to_string() } else { args.output.display().to_string() },
+                bad.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ")
+            );
+        }
+    }
     if format == Format::TetGen && !to_stdout {
         // Said, not silent: what TetGen's columns of reals cannot hold.
         let mut lost: Vec<String> = Vec::new();
