@@ -143,7 +143,7 @@ fn classify(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
             sx = v.x / fr.size.z;
             sy = v.y / fr.size.z;
         } else {
-            if (!(v.z > 1e-9)) {
+            if (!(v.z > fr.eye.w)) {
                 ok = false;
                 continue;
             }

@@ -3,6 +3,7 @@
 // `FrameUniform` it is filled from.
 
 struct Frame {
+    // xyz: the eye relative to the mesh centre; w: the near depth (View::near)
     eye: vec4<f32>,
     r: vec4<f32>,
     u: vec4<f32>,

@@ -80,3 +80,40 @@ fn far_off_and_huge_meshes_get_the_default_camera() {
         assert_eq!(report["report"]["violations"], 0, "{name}: {report}");
     }
 }
+
+#[test]
+fn tiny_meshes_are_drawn_by_projected_tetrahedra() {
+    // A mesh 1e-10 across (nanometres in metres) put every point within the fixed 1e-9 near
+    // depth of PT's eye: all "behind the camera", a blank image. The near depth now scales
+    // with the camera's distance below 1.
+    let dir = tempdir();
+    for size in [1e-10, 1e-14] {
+        let mesh = structured_grid([3, 3, 3], [0.0; 3], [size; 3]);
+        let input = dir.path().join("tiny.vtu");
+        tetkit::formats::write(&input, &mesh.to_grid(), &Default::default()).unwrap();
+        let mut lit_by = Vec::new();
+        for method in ["pt", "raycast"] {
+            let png = dir.path().join(format!("{method}.png"));
+            tetkit([
+                "render".as_ref(),
+                input.as_os_str(),
+                "-o".as_ref(),
+                png.as_os_str(),
+                "--size".as_ref(),
+                "32x32".as_ref(),
+                "-q".as_ref(),
+                "--method".as_ref(),
+                method.as_ref(),
+                "--elevation".as_ref(),
+                "25".as_ref(),
+            ])
+            .assert_success();
+            lit_by.push(lit(&png));
+        }
+        assert!(lit_by[1] > 200, "{size}: {lit_by:?}");
+        assert!(
+            lit_by[0].abs_diff(lit_by[1]) <= 10,
+            "{size}: PT vs ray caster {lit_by:?}"
+        );
+    }
+}

@@ -247,6 +247,9 @@ pub struct Session {
     /// What `tf` was built from, for bodies' transfer functions to inherit.
     pub base: BaseLook,
     pub lmax: f64,
+    /// Subtracted from `field` and from every transfer function's scalars
+    /// ([`crate::render::field::scalar_offset`]); 0 for most fields.
+    pub scalar_offset: f64,
     pub read_s: f64,
     pub schedule: pt::Schedule,
 }
@@ -332,6 +335,16 @@ impl Session {
                 None => prepare::default_unit_distance(&mesh),
             },
         };
+        // Far from zero compared with its range, the field is drawn shifted towards zero (PT
+        // keeps scalars in f32); the scene's transfer functions move with it (`run`).
+        let scalar_offset = crate::render::field::scalar_offset(range);
+        let mut field = field;
+        let range = if scalar_offset != 0.0 {
+            field.shift(scalar_offset);
+            range.map(|x| x - scalar_offset)
+        } else {
+            range
+        };
         let tf = TransferFunction::build(&colors, opacity.as_ref(), range, unit, look.tf_nodes)?;
         let base = BaseLook {
             colors,
@@ -347,6 +360,7 @@ impl Session {
             tf,
             base,
             lmax,
+            scalar_offset,
             read_s: t0.elapsed().as_secs_f64(),
             schedule: look.pt_schedule,
         })
@@ -426,7 +440,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bail!("--orbit-step must be finite");
     }
     let mut progress = Progress::new(look.quiet, 2 + frames as u64, "render");
-    let scene = match &args.scene {
+    let mut scene = match &args.scene {
         Some(p) => Some(crate::scene::load(p)?),
         None => None,
     };
@@ -435,6 +449,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         look,
         scene.as_ref().and_then(|s| s.transfer.as_ref()),
     )?;
+    if let Some(s) = scene.as_mut() {
+        s.shift_scalars(session.scalar_offset);
+    }
     progress.step("read");
     let cam0 = match &scene {
         Some(s) => session.bounds_camera(&super::render_scene::camera_args(&args.camera, s))?,

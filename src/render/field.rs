@@ -129,6 +129,13 @@ impl Field {
         r
     }
 
+    /// Subtracts `offset` from every value (see [`scalar_offset`]).
+    pub fn shift(&mut self, offset: f64) {
+        match self {
+            Field::Point(v) | Field::Cell(v) => v.iter_mut().for_each(|x| *x -= offset),
+        }
+    }
+
     /// Checks lengths against the mesh and that every value is finite.
     pub fn check(&self, mesh: &TetMesh, name: &str) -> Result<()> {
         let (v, n, what) = match self {
@@ -142,5 +149,21 @@ impl Field {
             bail!("array '{name}' tuple {i}: value {} is not finite", v[i]);
         }
         Ok(())
+    }
+}
+
+/// What a render subtracts from the field, its transfer functions' ranges and opacity points
+/// before drawing: the range start when the values are far from zero compared with the range
+/// (temperatures in kelvin with small variations, `coord:x` of a mesh at UTM coordinates), else
+/// 0 (nothing changes). Projected tetrahedra keep scalars in f32: `1e7 + [0, 3]` would keep
+/// only whole numbers, `1e8 + [0, 3]` a single value. Shifted, both the f32 rasterizer and the
+/// f64 ray caster see values within the range's own width of zero; the colours are the same up
+/// to rounding because every transfer function moves with the field.
+pub fn scalar_offset(range: [f64; 2]) -> f64 {
+    let span = range[1] - range[0];
+    if range[0].abs().max(range[1].abs()) > 16.0 * span.abs() {
+        range[0]
+    } else {
+        0.0
     }
 }

@@ -106,6 +106,33 @@ pub struct TransferSpec {
     pub unit_distance: Option<f64>,
 }
 
+impl TransferSpec {
+    /// Subtracts `offset` from its scalars (range and opacity points), as the render does to the
+    /// field (see `render::field::scalar_offset`).
+    pub fn shift_scalars(&mut self, offset: f64) {
+        if let Some(r) = self.range.as_mut() {
+            *r = r.map(|x| x - offset);
+        }
+        for p in &mut self.opacity {
+            p[0] -= offset;
+        }
+    }
+}
+
+impl Scene {
+    /// Shifts the scalars of every transfer function the scene declares by `offset`.
+    pub fn shift_scalars(&mut self, offset: f64) {
+        if let Some(t) = self.transfer.as_mut() {
+            t.shift_scalars(offset);
+        }
+        for b in &mut self.bodies {
+            if let Action::Transfer(t) = &mut b.action {
+                t.shift_scalars(offset);
+            }
+        }
+    }
+}
+
 /// Camera settings a scene may fix; unset fields keep the command line's or the default view.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CameraSpec {

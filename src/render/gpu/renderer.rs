@@ -308,8 +308,11 @@ impl GpuRenderer {
             ]
         };
         let dir = |d: [f64; 3]| [d[0] as f32, d[1] as f32, d[2] as f32, 0.0];
+        let mut eye = rel(view.eye);
+        // The near depth rides in the eye's unused w (classify.wgsl).
+        eye[3] = view.near as f32;
         let uni = FrameUniform {
-            eye: rel(view.eye),
+            eye,
             r: dir(view.r),
             u: dir(view.u),
             f: dir(view.f),

@@ -23,9 +23,6 @@ pub(crate) struct ClipSetup {
     smax: f64,
 }
 
-/// Depth below which a point counts as at the eye when bounding a clipped tet on screen.
-const CLIP_NEAR: f64 = 1e-9;
-
 impl ClipSetup {
     pub(crate) fn new(pv: [&Projected; 4], s: [f64; 4]) -> Option<ClipSetup> {
         let v = pv.map(|p| p.view);
@@ -124,12 +121,12 @@ pub(crate) fn pixel_ray(view: &View, x: i64, y: i64) -> ([f64; 3], [f64; 3], f64
 }
 
 /// Screen box of a tet with a vertex behind the eye or beyond the guard band: the box of its
-/// part in front of `CLIP_NEAR` (edges cut there), clamped to the image.
+/// part in front of the view's near depth (edges cut there), clamped to the image.
 pub(crate) fn clip_box(view: &View, p: &[&Projected; 4], w: usize, h: usize) -> Option<PixelBox> {
     let near = if view.parallel {
         f64::NEG_INFINITY
     } else {
-        CLIP_NEAR
+        view.near
     };
     let mut pts: Vec<[f64; 3]> = Vec::with_capacity(8);
     for i in 0..4 {

@@ -148,14 +148,16 @@ const _: () = assert!(std::mem::size_of::<Prepared>() == 128);
 /// clipped to a `w` x `h` image; `None` when empty.
 #[inline(always)]
 fn pixel_bounds(poly: &[[i32; 2]; 4], w: i64, h: i64) -> Option<PixelBox> {
-    let (mut xmin, mut xmax, mut ymin, mut ymax) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
-    for p in poly {
-        let (x, y) = (p[0] as i64, p[1] as i64);
-        xmin = xmin.min(x);
-        xmax = xmax.max(x);
-        ymin = ymin.min(y);
-        ymax = ymax.max(y);
-    }
+    box_pixels(poly.map(|p| (p[0] as i64, p[1] as i64)), w, h)
+}
+
+/// [`pixel_bounds`] of the box of four fixed-point points.
+#[inline(always)]
+fn box_pixels(p: [(i64, i64); 4], w: i64, h: i64) -> Option<PixelBox> {
+    let xmin = p[0].0.min(p[1].0).min(p[2].0.min(p[3].0));
+    let xmax = p[0].0.max(p[1].0).max(p[2].0.max(p[3].0));
+    let ymin = p[0].1.min(p[1].1).min(p[2].1.min(p[3].1));
+    let ymax = p[0].1.max(p[1].1).max(p[2].1.max(p[3].1));
     // Pixel centres at 256 i + 128 inside [min, max].
     let lo = |v: i64| (v - SUB / 2 + SUB - 1).div_euclid(SUB);
     let hi = |v: i64| (v - SUB / 2).div_euclid(SUB);
@@ -198,10 +200,16 @@ impl Prepared {
     pub(crate) fn setup(&self, w: i64, h: i64) -> TetSetup {
         let (x0, y0, x1, y1) = pixel_bounds(&self.poly, w, h).unwrap_or((0, 0, -1, -1));
         let (nf, nb) = (self.nf as usize, self.nb as usize);
-        // Unused slots repeat the first plane of their side, as [`setup_tet`] left them.
-        let side = |first: usize, n: usize| {
-            [0, 1, 2].map(|k| self.planes[(first + if k < n { k } else { 0 }) & 3])
-        };
+        // Unused slots repeat the first plane of their side, as [`setup_tet`] left them. Each
+        // slot is picked by index straight into the set-up: building the sides as arrays first
+        // left them on the stack in 4- and 8-byte pieces that a wide copy then read back, which
+        // stalls store forwarding on every drawn tet.
+        let pl = &self.planes;
+        let (f1, f2) = ((nf > 1) as usize, 2 * (nf > 2) as usize);
+        let (b1, b2) = (
+            (nf + (nb > 1) as usize) & 3,
+            (nf + 2 * (nb > 2) as usize) & 3,
+        );
         TetSetup {
             poly: self.poly,
             nedges: self.nedges as u32,
@@ -211,8 +219,8 @@ impl Prepared {
             y1: y1 as i32,
             ox: self.ox,
             oy: self.oy,
-            front: side(0, nf),
-            back: side(nf, nb),
+            front: [pl[0], pl[f1], pl[f2]],
+            back: [pl[nf & 3], pl[b1], pl[b2]],
             w0: self.w0,
             sref: self.sref,
             h: self.h,
@@ -222,15 +230,18 @@ impl Prepared {
     }
 }
 
-/// Sets up a tet whose vertices all project inside the guard band: its record and its pixel
-/// bounds (x0, y0, x1, y1), or `None` when it covers no pixel centre (counting its class).
+/// Sets up a tet whose vertices all project inside the guard band: writes its record into `out`
+/// and returns its pixel bounds (x0, y0, x1, y1), or `None` (with `out` partly written) when it
+/// covers no pixel centre; counts its class. The record is written in place since a returned
+/// one went through stack copies on its way into the run.
 #[inline(always)]
 pub(crate) fn setup_tet(
     view: &View,
-    pv: [&Projected; 4],
+    pv: &[&Projected; 4],
     s: [f64; 4],
     stats: &mut PtStats,
-) -> Option<(Prepared, PixelBox)> {
+    out: &mut Prepared,
+) -> Option<PixelBox> {
     let fp = pv.map(|p| (p.fx, p.fy));
     let d = face_areas(&fp);
     let class = classify(&d);
@@ -238,6 +249,9 @@ pub(crate) fn setup_tet(
     if class == ProjClass::Flat {
         return None;
     }
+    // The silhouette holds all four vertices, so its box is theirs: taken from the vertices,
+    // which are at hand, before the silhouette is built.
+    let bounds = box_pixels(fp, view.width as i64, view.height as i64)?;
     // Silhouette, positively oriented.
     let (mut pos, mut np) = ([0usize; 4], 0);
     let (mut neg, mut nn) = ([0usize; 4], 0);
@@ -271,10 +285,8 @@ pub(crate) fn setup_tet(
             [i, l, j, k]
         }
     };
-    // The silhouette holds all four vertices, so its box is theirs. Fixed-point positions lie
-    // within the guard band (2^28), so they fit i32.
+    // Fixed-point positions lie within the guard band (2^28), so they fit i32.
     let poly = corners.map(|v| [fp[v].0 as i32, fp[v].1 as i32]);
-    let bounds = pixel_bounds(&poly, view.width as i64, view.height as i64)?;
 
     // Depth planes: w = 1/z (perspective) or z (parallel), relative to vertex 0.
     let wv = pv.map(|p| {
@@ -299,8 +311,6 @@ pub(crate) fn setup_tet(
     // Front when the eye and the opposite vertex are on different sides of the face plane.
     let big_front = (vside > 0.0) != (eside > 0.0);
     let big_pos = d[big] > 0;
-    let mut front = [[0f32; 3]; 4];
-    let mut back = [[0f32; 3]; 4];
     let (mut nf, mut nb) = (0, 0);
     let (mut fx, mut fy, mut fw) = ([[0f64; 4]; 3], [[0f64; 4]; 3], [[0f64; 4]; 3]);
     for (i, f) in FACES.iter().enumerate() {
@@ -311,29 +321,41 @@ pub(crate) fn setup_tet(
         }
     }
     let (pl, area, fit) = plane_fits(&fx, &fy, &fw, ox, oy);
+    // Per face: 0 unused, 1 front, 2 back.
+    let mut side = [0u8; 4];
     for i in 0..4 {
         if d[i] == 0 || !fit[i] {
             continue;
         }
-        let pl = [pl[0][i] as f32, pl[1][i] as f32, pl[2][i] as f32];
         // Front or back by the unsnapped projection the plane was fitted to: a face seen nearly
         // edge-on can change sign on the fixed-point grid, and a flipped steep plane would cut
         // the whole tet away.
         if (area[i] > 0.0) == (big_pos == big_front) {
-            front[nf] = pl;
+            side[i] = 1;
             nf += 1;
         } else {
-            back[nb] = pl;
+            side[i] = 2;
             nb += 1;
         }
     }
     if nf == 0 || nb == 0 {
         return None;
     }
-    // At most four faces are fitted, so the two sides fill the record's four plane slots.
-    let mut planes = [[0f32; 3]; 4];
-    planes[..nf].copy_from_slice(&front[..nf]);
-    planes[nf..nf + nb].copy_from_slice(&back[..nb]);
+    // At most four faces are fitted, so the two sides fill the record's four plane slots: the
+    // front ones, then the back ones, written straight into the record (built on the stack
+    // first, they were read back wide from narrow stores, which stalls).
+    let mut k = 0;
+    for want in [1, 2] {
+        for i in 0..4 {
+            if side[i] == want {
+                out.planes[k & 3] = [pl[0][i] as f32, pl[1][i] as f32, pl[2][i] as f32];
+                k += 1;
+            }
+        }
+    }
+    for slot in out.planes.iter_mut().skip(k) {
+        *slot = [0.0; 3];
+    }
 
     // Scalar gradient in view coordinates.
     let e = [
@@ -373,21 +395,18 @@ pub(crate) fn setup_tet(
     };
     let smin = s.iter().copied().fold(f64::INFINITY, f64::min);
     let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let rec = Prepared {
-        poly,
-        planes,
-        sref: sref.map(|x| x as f32),
-        h: h.map(|x| x as f32),
-        ox: ox as f32,
-        oy: oy as f32,
-        w0: w0 as f32,
-        smin: smin as f32,
-        smax: smax as f32,
-        nedges,
-        nf: nf as u8,
-        nb: nb as u8,
-    };
-    Some((rec, bounds))
+    out.poly = poly;
+    out.sref = sref.map(|x| x as f32);
+    out.h = h.map(|x| x as f32);
+    out.ox = ox as f32;
+    out.oy = oy as f32;
+    out.w0 = w0 as f32;
+    out.smin = smin as f32;
+    out.smax = smax as f32;
+    out.nedges = nedges;
+    out.nf = nf as u8;
+    out.nb = nb as u8;
+    Some(bounds)
 }
 
 /// A fragment's entry and exit depths relative to vertex 0's depth, and its scalar as
@@ -488,7 +507,8 @@ mod tests {
             let proj = project_points(&view, &pts);
             let pv = [&proj[0], &proj[1], &proj[2], &proj[3]];
             let mut st = PtStats::default();
-            if let Some((rec, b)) = setup_tet(&view, pv, s, &mut st) {
+            let mut rec = Prepared::clipped(0);
+            if let Some(b) = setup_tet(&view, &pv, s, &mut st, &mut rec) {
                 prop_assert_eq!(Some(b), vertex_box(&proj, w as i64, h as i64));
                 prop_assert_eq!(rec.clip_index(), None);
                 let su = rec.setup(w as i64, h as i64);

@@ -56,9 +56,42 @@ impl Frame<'_> {
             let b = clip_box(self.view, &pv, w, h)?;
             Some((Prep::Clipped(c, b), b))
         } else {
-            let (rec, b) = setup_tet(self.view, pv, s, st)?;
+            let mut rec = Prepared::clipped(0);
+            let b = setup_tet(self.view, &pv, s, st, &mut rec)?;
             Some((Prep::Tet(rec), b))
         }
+    }
+
+    /// [`Frame::prepare`] straight into `run`: pushes tet `t`'s record (and its clipping
+    /// set-up) and returns its pixel box, or `None` with nothing pushed when it draws nothing.
+    #[inline(always)]
+    fn prepare_into(&self, t: u32, run: &mut Run) -> Option<PixelBox> {
+        let tet = &self.tets[t as usize];
+        let pr = self.proj;
+        let pv = [
+            &pr[tet[0] as usize],
+            &pr[tet[1] as usize],
+            &pr[tet[2] as usize],
+            &pr[tet[3] as usize],
+        ];
+        let s = self.field.at(t as usize, tet);
+        if pv.iter().any(|p| !p.ok) {
+            run.stats.clipped += 1;
+            let (w, h) = (self.view.width as usize, self.view.height as usize);
+            let c = ClipSetup::new(pv, s)?;
+            let b = clip_box(self.view, &pv, w, h)?;
+            run.recs.push(Prepared::clipped(run.clipped.len() as u32));
+            run.clipped.push((c, b));
+            return Some(b);
+        }
+        // A placeholder the set-up overwrites in place (`recs` has room for the whole run).
+        run.recs.push(Prepared::clipped(0));
+        let n = run.recs.len();
+        let b = setup_tet(self.view, &pv, s, &mut run.stats, &mut run.recs[n - 1]);
+        if b.is_none() {
+            run.recs.pop();
+        }
+        b
     }
 
     /// What record `k` of `run` is drawn from.
@@ -151,7 +184,26 @@ impl TileDraw for PlainDraw<'_> {
         buf: &mut [[f32; 4]],
     ) -> (u64, usize) {
         let f = self.frame;
-        f.draw(&f.kind(run, k), tile, buf, self.shader)
+        let p = &run.recs[k];
+        match p.clip_index() {
+            // The set-up is built where the rasterizer reads it: wrapped in a [`PrepKind`] it
+            // would be built once and copied.
+            None => {
+                let su = p.setup(f.view.width as i64, f.view.height as i64);
+                self.shader.draw(
+                    &su,
+                    f.view.parallel,
+                    tile,
+                    buf,
+                    f.stretch,
+                    f.view.width as usize,
+                )
+            }
+            Some(i) => {
+                let (c, b) = &run.clipped[i];
+                c.draw(f.view, *b, tile, buf, self.shader)
+            }
+        }
     }
 }
 
@@ -168,29 +220,44 @@ pub(crate) struct Run {
     stats: PtStats,
 }
 
+impl Run {
+    /// An empty run with room for `cap` tets over `ntiles` tiles.
+    fn new(cap: usize, ntiles: usize) -> Run {
+        let mut run = Run {
+            recs: Vec::with_capacity(cap),
+            tets: Vec::with_capacity(cap),
+            clipped: Vec::new(),
+            lists: vec![Vec::new(); ntiles],
+            stats: PtStats::default(),
+        };
+        huge_pages(&mut run.recs);
+        run
+    }
+}
+
 /// How many entries ahead the loops below ask for the memory they will read: far enough for a
 /// miss to arrive, near enough that the line is not evicted first (2 to 8 measured alike).
 const AHEAD: usize = 4;
 
-/// Sets up a run of the order and bins it per tile (`ntx` tiles a row, `ntiles` in all).
+/// Sets up a run of the order and bins it per tile (`ntx` tiles a row) into `run`, replacing
+/// what it held but keeping its buffers.
 #[inline(always)]
-fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
-    let mut run = Run {
-        recs: Vec::with_capacity(chunk.len()),
-        tets: Vec::with_capacity(chunk.len()),
-        clipped: Vec::new(),
-        lists: vec![Vec::new(); ntiles],
-        stats: PtStats::default(),
-    };
-    huge_pages(&mut run.recs);
+fn bin(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
+    run.recs.clear();
+    run.tets.clear();
+    run.clipped.clear();
+    for l in &mut run.lists {
+        l.clear();
+    }
+    run.stats = PtStats::default();
     let (tets, proj) = (frame.tets, frame.proj);
     for (i, &t) in chunk.iter().enumerate() {
         // The order visits the mesh's arrays out of their order: ask for the tet ahead, then
         // for the points of the one after it, which the tet's line has brought by then.
-        if let Some(&u) = chunk.get(i + 2 * AHEAD) {
+        if let Some(&u) = chunk.get(i + 4 * AHEAD) {
             prefetch(tets.as_ptr().wrapping_add(u as usize));
         }
-        if let Some(tet) = chunk.get(i + AHEAD).and_then(|&u| tets.get(u as usize)) {
+        if let Some(tet) = chunk.get(i + 2 * AHEAD).and_then(|&u| tets.get(u as usize)) {
             for &v in tet {
                 prefetch(proj.as_ptr().wrapping_add(v as usize));
                 if let Field::Point(s) = frame.field {
@@ -198,17 +265,10 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
                 }
             }
         }
-        let Some((prep, (x0, y0, x1, y1))) = frame.prepare(t, &mut run.stats) else {
+        let Some((x0, y0, x1, y1)) = frame.prepare_into(t, run) else {
             continue;
         };
-        let k = run.recs.len() as u32;
-        match prep {
-            Prep::Tet(r) => run.recs.push(r),
-            Prep::Clipped(c, b) => {
-                run.recs.push(Prepared::clipped(run.clipped.len() as u32));
-                run.clipped.push((c, b));
-            }
-        }
+        let k = run.tets.len() as u32;
         run.tets.push(t);
         for ty in (y0 as usize / TILE)..=(y1 as usize / TILE) {
             for tx in (x0 as usize / TILE)..=(x1 as usize / TILE) {
@@ -216,38 +276,44 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
             }
         }
     }
-    run
 }
 
 /// [`bin`] compiled for AVX2 (bit for bit the same, as [`draw_tile_avx2`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
-    bin(frame, chunk, ntx, ntiles)
+unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
+    bin(frame, chunk, ntx, run)
 }
 
 /// [`bin`] with the widest instruction set the CPU has.
-fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, ntiles: usize) -> Run {
+fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { bin_avx2(frame, chunk, ntx, ntiles) };
+        return unsafe { bin_avx2(frame, chunk, ntx, run) };
     }
-    bin(frame, chunk, ntx, ntiles)
+    bin(frame, chunk, ntx, run)
 }
 
-/// What one tile gives back: its pixels, fragments and the drawer's counts.
-type TileOut<S> = (Vec<[f32; 4]>, u64, S);
+/// A tile being drawn across the waves of a frame.
+struct TileAcc<S> {
+    /// Pixel box (x0, y0, x1, y1), inclusive.
+    tile: Tile,
+    buf: Vec<[f32; 4]>,
+    frags: u64,
+    opaque: usize,
+    state: S,
+    /// Every pixel opaque: later tets are not drawn.
+    done: bool,
+}
 
-/// Draws tile `ti` (pixel box `tile`) from the binned runs in order.
+/// Draws the lists of tile `ti` in the binned runs, in order, onto what the tile holds.
 #[inline(always)]
-fn draw_tile<D: TileDraw>(d: &D, bins: &[Run], ti: usize, tile: Tile) -> TileOut<D::State> {
-    let npix = ((tile.2 - tile.0 + 1) * (tile.3 - tile.1 + 1)) as usize;
-    let mut buf = vec![[0f32; 4]; npix];
-    let mut state = D::State::default();
-    let mut frags = 0u64;
-    let mut opaque = 0usize;
-    'outer: for run in bins {
+fn draw_tile<D: TileDraw>(d: &D, runs: &[Run], ti: usize, acc: &mut TileAcc<D::State>) {
+    let npix = acc.buf.len();
+    let (tile, buf, state) = (acc.tile, &mut acc.buf[..], &mut acc.state);
+    let (mut frags, mut opaque) = (acc.frags, acc.opaque);
+    'outer: for run in runs {
         let list = &run.lists[ti];
         for (i, &k) in list.iter().enumerate() {
             // Each tile skips through the records: ask for the one a few entries ahead.
@@ -256,28 +322,24 @@ fn draw_tile<D: TileDraw>(d: &D, bins: &[Run], ti: usize, tile: Tile) -> TileOut
                 prefetch(p);
                 prefetch(p.cast::<u8>().wrapping_add(64));
             }
-            let (f, o) = d.draw(&mut state, ti, run, k as usize, tile, &mut buf);
+            let (f, o) = d.draw(state, ti, run, k as usize, tile, buf);
             frags += f;
             opaque += o;
             if opaque == npix {
+                acc.done = true;
                 break 'outer;
             }
         }
     }
-    (buf, frags, state)
+    (acc.frags, acc.opaque) = (frags, opaque);
 }
 
 /// [`draw_tile`] compiled for AVX2: the per-pixel lanes vectorize far better than with the
 /// baseline SSE2. No fused multiply-add is enabled, so the image is bit for bit the same.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn draw_tile_avx2<D: TileDraw>(
-    d: &D,
-    bins: &[Run],
-    ti: usize,
-    tile: Tile,
-) -> TileOut<D::State> {
-    draw_tile(d, bins, ti, tile)
+unsafe fn draw_tile_avx2<D: TileDraw>(d: &D, runs: &[Run], ti: usize, acc: &mut TileAcc<D::State>) {
+    draw_tile(d, runs, ti, acc)
 }
 
 /// [`draw_tile`] compiled for AVX-512 (F and VL): the same 8-lane code, but with 32 vector
@@ -286,74 +348,100 @@ unsafe fn draw_tile_avx2<D: TileDraw>(
 #[target_feature(enable = "avx2,avx512f,avx512vl")]
 unsafe fn draw_tile_avx512<D: TileDraw>(
     d: &D,
-    bins: &[Run],
+    runs: &[Run],
     ti: usize,
-    tile: Tile,
-) -> TileOut<D::State> {
-    draw_tile(d, bins, ti, tile)
+    acc: &mut TileAcc<D::State>,
+) {
+    draw_tile(d, runs, ti, acc)
 }
 
 /// [`draw_tile`] with the widest instruction set the CPU has.
-fn draw_tile_best<D: TileDraw>(d: &D, bins: &[Run], ti: usize, tile: Tile) -> TileOut<D::State> {
+fn draw_tile_best<D: TileDraw>(d: &D, runs: &[Run], ti: usize, acc: &mut TileAcc<D::State>) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx512f")
         && std::arch::is_x86_feature_detected!("avx512vl")
     {
         // SAFETY: the CPU has AVX-512F and VL (and so AVX2), checked just above.
-        return unsafe { draw_tile_avx512(d, bins, ti, tile) };
+        return unsafe { draw_tile_avx512(d, runs, ti, acc) };
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { draw_tile_avx2(d, bins, ti, tile) };
+        return unsafe { draw_tile_avx2(d, runs, ti, acc) };
     }
-    draw_tile(d, bins, ti, tile)
+    draw_tile(d, runs, ti, acc)
 }
 
-/// The tile schedule: sets up and bins the ordered tets (runs of the order in parallel, each
-/// keeping its tets in order, so a tile that walks the runs in turn sees the global order; each
-/// tet set up once however many tiles it touches), then draws the tiles in parallel with `d`.
-/// Returns the image, counts, seconds spent setting up and binning, and each tile's state.
+/// Tets set up per run of the order.
+const CHUNK: usize = 1 << 14;
+/// Runs per wave: a wave's records (128 bytes a tet, 8 MiB) stay in the last-level cache
+/// between binning and drawing, where a whole frame's (128 MiB at a million tets) would be
+/// written out to memory and read back by every tile.
+const WAVE: usize = 4;
+
+/// The tile schedule, in waves of [`WAVE`] runs of [`CHUNK`] consecutive tets of the order:
+/// each wave's runs set up and binned in parallel (each keeping its tets in order, each tet set
+/// up once however many tiles it touches), then the tiles drawn in parallel with `d` from those
+/// runs, each carrying on from the earlier waves. A tile that walks the runs in turn sees the
+/// global order, so neither the waves nor the runs change the image. Returns the image, counts,
+/// seconds spent setting up and binning, and each tile's state.
 pub(crate) fn render_tiles<D: TileDraw>(
     frame: &Frame,
     order: &[u32],
     d: &D,
 ) -> (Image, PtStats, f64, Vec<D::State>) {
-    let t1 = std::time::Instant::now();
     let (w, h) = (frame.view.width as usize, frame.view.height as usize);
     let (ntx, nty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let ntiles = ntx * nty;
-    const CHUNK: usize = 1 << 15;
-    let bins: Vec<Run> = order
-        .par_chunks(CHUNK)
-        .map(|chunk| bin_best(frame, chunk, ntx, ntiles))
-        .collect();
-    let mut stats = PtStats::default();
-    for run in &bins {
-        stats.add(&run.stats);
-    }
-    let bin_s = t1.elapsed().as_secs_f64();
-    let tiles: Vec<TileOut<D::State>> = (0..ntiles)
-        .into_par_iter()
+    let mut tiles: Vec<TileAcc<D::State>> = (0..ntiles)
         .map(|ti| {
             let (tx, ty) = (ti % ntx, ti / ntx);
-            let (px0, py0) = ((tx * TILE) as i64, (ty * TILE) as i64);
-            let (px1, py1) = (
-                ((tx + 1) * TILE).min(w) as i64 - 1,
-                ((ty + 1) * TILE).min(h) as i64 - 1,
-            );
-            draw_tile_best(d, &bins, ti, (px0, py0, px1, py1))
+            let (px0, py0) = (tx * TILE, ty * TILE);
+            let (px1, py1) = (((tx + 1) * TILE).min(w), ((ty + 1) * TILE).min(h));
+            TileAcc {
+                tile: (px0 as i64, py0 as i64, px1 as i64 - 1, py1 as i64 - 1),
+                buf: vec![[0f32; 4]; (px1 - px0) * (py1 - py0)],
+                frags: 0,
+                opaque: 0,
+                state: D::State::default(),
+                done: false,
+            }
         })
         .collect();
+    let nruns = order.len().div_ceil(CHUNK).clamp(1, WAVE);
+    let mut runs: Vec<Run> = (0..nruns)
+        .into_par_iter()
+        .map(|_| Run::new(CHUNK, ntiles))
+        .collect();
+    let mut stats = PtStats::default();
+    let mut bin_s = 0.0;
+    for wave in order.chunks(CHUNK * WAVE) {
+        let t0 = std::time::Instant::now();
+        let used = wave.len().div_ceil(CHUNK);
+        runs[..used]
+            .par_iter_mut()
+            .zip(wave.par_chunks(CHUNK))
+            .for_each(|(run, chunk)| bin_best(frame, chunk, ntx, run));
+        for run in &runs[..used] {
+            stats.add(&run.stats);
+        }
+        bin_s += t0.elapsed().as_secs_f64();
+        let runs = &runs[..used];
+        tiles
+            .par_iter_mut()
+            .enumerate()
+            .filter(|(ti, acc)| !acc.done && runs.iter().any(|r| !r.lists[*ti].is_empty()))
+            .for_each(|(ti, acc)| draw_tile_best(d, runs, ti, acc));
+    }
     let mut img = Image::new(frame.view.width, frame.view.height);
     let mut states = Vec::with_capacity(ntiles);
-    for (ti, (buf, f, s)) in tiles.into_iter().enumerate() {
-        stats.fragments += f;
-        states.push(s);
-        let (tx, ty) = (ti % ntx, ti / ntx);
-        let (px0, py0) = (tx * TILE, ty * TILE);
-        let tw = TILE.min(w - px0);
-        for (r, row) in buf.chunks(tw).enumerate() {
+    for acc in tiles {
+        stats.fragments += acc.frags;
+        states.push(acc.state);
+        let (px0, py0, px1, _) = acc.tile;
+        let (px0, py0) = (px0 as usize, py0 as usize);
+        let tw = px1 as usize + 1 - px0;
+        for (r, row) in acc.buf.chunks(tw).enumerate() {
             let y = py0 + r;
             img.pixels[y * w + px0..y * w + px0 + tw].copy_from_slice(row);
         }

@@ -20,6 +20,10 @@ pub struct View {
     /// tan(half view angle) (perspective) or parallel scale.
     pub scale: f64,
     pub aspect: f64,
+    /// Depth below which a point counts as at or behind the eye (perspective): 1e-9, or 1e-9 of
+    /// the camera's distance when that is below 1, so a mesh 1e-10 across (nanometres in
+    /// metres) is not all "behind the eye".
+    pub near: f64,
 }
 
 impl View {
@@ -39,6 +43,7 @@ impl View {
                 (0.5 * cam.view_angle).to_radians().tan()
             },
             aspect: width as f64 / height as f64,
+            near: 1e-9 * cam.distance().min(1.0),
         }
     }
 
@@ -102,7 +107,7 @@ pub struct Projected {
 
 /// Projects every point (in parallel).
 pub fn project_points(view: &View, points: &[[f64; 3]]) -> Vec<Projected> {
-    let near = 1e-9;
+    let near = view.near;
     let mut out = Vec::with_capacity(points.len());
     super::huge_pages(&mut out);
     points
