@@ -103,7 +103,9 @@ pub fn tets_with_input_cells(
 ) -> anyhow::Result<(crate::mesh::TetMesh, Vec<usize>)> {
     use anyhow::Context;
     use formats::{cell_type, ArrayData, DataArray};
-    if grid.cells.types.iter().all(|&t| t == cell_type::TETRA) {
+    if grid.cells.types.iter().all(|&t| t == cell_type::TETRA)
+        && crate::partition::input::without_ghost_cells(grid).is_none()
+    {
         let mesh = crate::mesh::TetMesh::from_grid(grid).with_context(|| name.to_string())?;
         let cells = (0..mesh.tets.len()).collect();
         return Ok((mesh, cells));

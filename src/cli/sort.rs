@@ -39,6 +39,16 @@ pub struct SortArgs {
 /// tetrahedralized first, dropping the cells below 3-D, with a note on stderr.
 pub fn load(input: &std::path::Path) -> anyhow::Result<(formats::Grid, TetMesh, Option<KdTree>)> {
     let mut grid = super::read_input(input)?;
+    if let Some((drawn, keep)) = crate::partition::input::without_ghost_cells(&grid) {
+        eprintln!(
+            "tetkit: {}",
+            crate::partition::input::ghost_note(
+                &input.display().to_string(),
+                grid.num_cells() - keep.len()
+            )
+        );
+        grid = drawn;
+    }
     if grid
         .cells
         .types

@@ -7,10 +7,82 @@ use formats::{cell_type, Grid};
 use super::ORIGINAL_CELL_ID;
 use crate::mesh::TetMesh;
 
-/// Keeps the tets of `grid`: drops 0-, 1- and 2-D cells (saying how many), tetrahedralizes other
-/// 3-D cells. Returns the mesh, for each of its tets the input cell it came from, and notes for
-/// the user (what was dropped or split).
+/// The `vtkGhostType` cell bits of cells ParaView does not draw: DUPLICATECELL (1: a copy of a
+/// cell another piece owns, written with ghost levels) and HIDDENCELL (32).
+const GHOST_NOT_DRAWN: u8 = 1 | 32;
+
+/// `grid` without the cells its `vtkGhostType` cell array marks as another piece's duplicates or
+/// as hidden, and the indices of the cells kept; `None` when no cell is marked. Drawing, sorting
+/// or partitioning a duplicate would count its volume twice (a ParaView .pvtu saved with ghost
+/// levels repeats each piece's neighbours), so the view commands drop them as ParaView does.
+pub fn without_ghost_cells(grid: &Grid) -> Option<(Grid, Vec<usize>)> {
+    let ghost = grid
+        .cell_data
+        .get("vtkGhostType")
+        .filter(|a| a.components == 1 && a.data.scalar_type().is_some_and(|t| !t.is_float()))?;
+    let n = grid.num_cells();
+    if ghost.data.len() != n {
+        return None;
+    }
+    let drawn = |i: usize| (ghost.data.get_f64(i) as i64 as u8) & GHOST_NOT_DRAWN == 0;
+    if (0..n).all(drawn) {
+        return None;
+    }
+    let keep: Vec<usize> = (0..n).filter(|&i| drawn(i)).collect();
+    let mut cells = formats::Cells::new();
+    for &i in &keep {
+        cells.push(grid.cells.types[i], grid.cells.cell(i));
+    }
+    if let Some((faces, ends)) = &grid.cells.polyhedron_faces {
+        // Cell i's face stream runs from the previous polyhedron's end to its own.
+        let mut starts = Vec::with_capacity(n);
+        let mut at = 0i64;
+        for &e in ends.iter().take(n) {
+            starts.push(at);
+            if e >= 0 {
+                at = e;
+            }
+        }
+        let (mut f, mut o) = (Vec::new(), Vec::with_capacity(keep.len()));
+        for &i in &keep {
+            match ends.get(i) {
+                Some(&e) if e >= 0 => {
+                    f.extend_from_slice(&faces[starts[i] as usize..e as usize]);
+                    o.push(f.len() as i64);
+                }
+                _ => o.push(-1),
+            }
+        }
+        cells.polyhedron_faces = Some((f, o));
+    }
+    let mut g = grid.clone();
+    g.cells = cells;
+    g.cell_data = grid.cell_data.gather(&keep);
+    Some((g, keep))
+}
+
+/// Whether `grid` carries integer `original_cell_id`s (a tetrahedralized or split mesh), which
+/// the view commands keep pointing at the first mesh.
+fn carries_ids(grid: &Grid) -> bool {
+    grid.cell_data
+        .get(ORIGINAL_CELL_ID)
+        .is_some_and(|a| a.components == 1 && a.data.scalar_type().is_some_and(|t| !t.is_float()))
+}
+
+/// Keeps the tets of `grid`: drops ghost cells ([`without_ghost_cells`]) and 0-, 1- and 2-D
+/// cells (saying how many), tetrahedralizes other 3-D cells. Returns the mesh, for each of its
+/// tets the input cell it came from, and notes for the user (what was dropped or split).
 pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>, Vec<String>)> {
+    if let Some((drawn, keep)) = without_ghost_cells(grid) {
+        let (mesh, ids, mut notes) = tets_of(&drawn, name)?;
+        let ids = if carries_ids(&drawn) {
+            ids
+        } else {
+            ids.into_iter().map(|i| keep[i as usize] as i64).collect()
+        };
+        notes.insert(0, ghost_note(name, grid.num_cells() - keep.len()));
+        return Ok((mesh, ids, notes));
+    }
     let mut notes = Vec::new();
     let n = grid.num_cells();
     let all_tets_3d = (0..n).all(|i| {
@@ -77,4 +149,11 @@ pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>, Vec<String
         None => keep.into_iter().map(|i| i as i64).collect(),
     };
     Ok((mesh, ids, notes))
+}
+
+/// What the view commands say when they drop ghost cells.
+pub fn ghost_note(name: &str, dropped: usize) -> String {
+    format!(
+        "{name}: dropped {dropped} ghost cells (vtkGhostType: duplicates of another piece's cells, or hidden), as ParaView does"
+    )
 }

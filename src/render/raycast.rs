@@ -27,6 +27,8 @@ pub struct RayCaster<'a> {
     /// Per-tet barycentric planes and scalars, relative to `reference`.
     planes: Vec<TetPlanes>,
     reference: [f64; 3],
+    /// The mesh's bounding-box diagonal: the scale of the re-entry slack.
+    diagonal: f64,
 }
 
 /// Counts of one frame.
@@ -47,7 +49,10 @@ impl<'a> RayCaster<'a> {
         topo: &'a Topology,
         params: GridParams,
     ) -> RayCaster<'a> {
-        let reference = Aabb::of_points(points.iter()).center();
+        let bounds = Aabb::of_points(points.iter());
+        let reference = bounds.center();
+        let e = bounds.extent();
+        let diagonal = dot(&e, &e).sqrt();
         let ((entry, locator), planes) = rayon::join(
             || {
                 rayon::join(
@@ -66,6 +71,7 @@ impl<'a> RayCaster<'a> {
             locator,
             planes,
             reference,
+            diagonal: if diagonal.is_finite() { diagonal } else { 0.0 },
         }
     }
 
@@ -112,7 +118,16 @@ impl<'a> RayCaster<'a> {
             let (mut tet, mut face, mut tin) = match cur.take() {
                 Some(c) => c,
                 None => {
-                    let hit = self.first_entry(o, d, after, &used);
+                    // Where the ray left the mesh through a face that another piece's face
+                    // covers (pieces merged without welding their points: a .pvtu, an append),
+                    // that face's entry is computed another way and may land a few ulps before
+                    // the exit: look that far back, or the next piece's first tet is skipped.
+                    let slack = if steps > 0 {
+                        1e-9 * (after.abs() + self.diagonal)
+                    } else {
+                        0.0
+                    };
+                    let hit = self.first_entry(o, d, after - slack, &used);
                     match hit {
                         Some(h) => {
                             if h.t > after {
