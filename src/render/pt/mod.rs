@@ -19,6 +19,8 @@ mod chunks;
 mod classify;
 mod clip;
 mod raster;
+#[cfg(target_arch = "x86_64")]
+mod raster_x86;
 mod setup;
 mod shade;
 #[cfg(test)]

@@ -142,7 +142,7 @@ impl<const L: usize> Cover<L> {
 }
 
 /// The covered run of each row of a tet's clipped box, top to bottom.
-trait Rows {
+pub(super) trait Rows {
     /// The covered pixels `[xa, xb]` of the next row, `None` when it has none.
     fn next_row(&mut self) -> Option<(i64, i64)>;
 }
@@ -255,31 +255,68 @@ struct Batch {
     n: usize,
 }
 
+/// `a.max(b)` with the choices `f32::max` leaves open made: `b` when `a` is NaN or `b > a`, else
+/// `a` (so `max(-0, +0)` is `-0`), as x86's `maxps(b, a)` plus a NaN select computes it.
+#[inline(always)]
+pub(super) fn max_of(a: f32, b: f32) -> f32 {
+    if a.is_nan() || b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `a.min(b)` made definite as [`max_of`]: `b` when `a` is NaN or `b < a`, else `a`.
+#[inline(always)]
+pub(super) fn min_of(a: f32, b: f32) -> f32 {
+    if a.is_nan() || b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `x.clamp(lo, hi)` without its check that `lo <= hi`: NaN passes through.
+#[inline(always)]
+pub(super) fn clamp_to(x: f32, lo: f32, hi: f32) -> f32 {
+    let x = if x < lo { lo } else { x };
+    if x > hi {
+        hi
+    } else {
+        x
+    }
+}
+
 /// (Sf, Sb, l) of the [`LANES`] pixels of a batch: all three plane slots evaluated (the unused
 /// ones repeat a used plane), so no branch depends on the tet's class. Each plane is evaluated
-/// as `(c + ay dy) + ax dx`, the order of [`RowPlanes`], so every path gives the same bits.
+/// as `(c + ay dy) + ax dx`, the order of [`RowPlanes`], so every path gives the same bits (the
+/// explicit-SIMD one in `raster_x86` does these operations in this order).
 #[inline(always)]
 fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> Lanes {
     let ev = |p: &[f32; 3], i: usize| (p[0] + p[2] * b.dy[i]) + p[1] * b.dx[i];
     let (mut zf, mut zb) = ([0f32; LANES], [0f32; LANES]);
     if parallel {
         for i in 0..LANES {
-            zf[i] = ev(&t.front[0], i)
-                .max(ev(&t.front[1], i))
-                .max(ev(&t.front[2], i));
-            zb[i] = ev(&t.back[0], i)
-                .min(ev(&t.back[1], i))
-                .min(ev(&t.back[2], i));
+            zf[i] = max_of(
+                max_of(ev(&t.front[0], i), ev(&t.front[1], i)),
+                ev(&t.front[2], i),
+            );
+            zb[i] = min_of(
+                min_of(ev(&t.back[0], i), ev(&t.back[1], i)),
+                ev(&t.back[2], i),
+            );
         }
     } else {
         let w0 = t.w0;
         for i in 0..LANES {
-            let df = ev(&t.front[0], i)
-                .min(ev(&t.front[1], i))
-                .min(ev(&t.front[2], i));
-            let db = ev(&t.back[0], i)
-                .max(ev(&t.back[1], i))
-                .max(ev(&t.back[2], i));
+            let df = min_of(
+                min_of(ev(&t.front[0], i), ev(&t.front[1], i)),
+                ev(&t.front[2], i),
+            );
+            let db = max_of(
+                max_of(ev(&t.back[0], i), ev(&t.back[1], i)),
+                ev(&t.back[2], i),
+            );
             // z - z0 = 1/(w0 + d) - 1/w0 = -d / (w0 (w0 + d)).
             zf[i] = -df / (w0 * (w0 + df));
             zb[i] = -db / (w0 * (w0 + db));
@@ -289,9 +326,9 @@ fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> Lanes {
     for i in 0..LANES {
         let sref = ev(&t.sref, i);
         let h = ev(&t.h, i);
-        sf[i] = (sref + zf[i] * h).clamp(t.smin, t.smax);
-        sb[i] = (sref + zb[i] * h).clamp(t.smin, t.smax);
-        let li = ((zb[i] - zf[i]) * b.st[i]).max(0.0);
+        sf[i] = clamp_to(sref + zf[i] * h, t.smin, t.smax);
+        sb[i] = clamp_to(sref + zb[i] * h, t.smin, t.smax);
+        let li = max_of((zb[i] - zf[i]) * b.st[i], 0.0);
         l[i] = if li.is_finite() { li } else { 0.0 };
     }
     [sf, sb, l]
@@ -323,6 +360,23 @@ pub(crate) fn raster<S: Shade>(
     width: usize,
     shade: &S,
 ) -> (u64, usize) {
+    raster_with(t, parallel, tile, buf, stretch, width, shade, true)
+}
+
+/// [`raster`] with the explicit-SIMD rows allowed (`simd`, where the CPU has them) or not: the
+/// same bits either way.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn raster_with<S: Shade>(
+    t: &TetSetup,
+    parallel: bool,
+    tile: Tile,
+    buf: &mut [[f32; 4]],
+    stretch: &[f32],
+    width: usize,
+    shade: &S,
+    simd: bool,
+) -> (u64, usize) {
     let Some((x0, x1, y0, y1)) = t.clip(tile) else {
         return (0, 0);
     };
@@ -336,9 +390,9 @@ pub(crate) fn raster<S: Shade>(
         shade,
     };
     let d = if w <= 8 {
-        Cover::<8>::new(t, x0, y0, w).map(|c| draw.rows(c, y0, y1, buf))
+        Cover::<8>::new(t, x0, y0, w).map(|c| draw.run_with(c, y0, y1, buf, simd))
     } else if w <= 16 {
-        Cover::<16>::new(t, x0, y0, w).map(|c| draw.rows(c, y0, y1, buf))
+        Cover::<16>::new(t, x0, y0, w).map(|c| draw.run_with(c, y0, y1, buf, simd))
     } else {
         None
     };
@@ -349,22 +403,41 @@ pub(crate) fn raster<S: Shade>(
             x0,
             x1,
         };
-        draw.rows(s, y0, y1, buf)
+        draw.run_with(s, y0, y1, buf, simd)
     });
     (d.frags, d.opaque)
 }
 
 /// What drawing a tet into one tile reads besides its rows.
-struct Draw<'a, S> {
-    t: &'a TetSetup,
-    parallel: bool,
-    tile: Tile,
-    stretch: &'a [f32],
-    width: usize,
-    shade: &'a S,
+pub(super) struct Draw<'a, S> {
+    pub(super) t: &'a TetSetup,
+    pub(super) parallel: bool,
+    pub(super) tile: Tile,
+    pub(super) stretch: &'a [f32],
+    pub(super) width: usize,
+    pub(super) shade: &'a S,
 }
 
 impl<S: Shade> Draw<'_, S> {
+    /// [`Draw::rows`], in explicit AVX2 when `simd` and the CPU has it (the same bits).
+    #[inline(always)]
+    fn run_with<R: Rows>(
+        &self,
+        rows: R,
+        y0: i64,
+        y1: i64,
+        buf: &mut [[f32; 4]],
+        simd: bool,
+    ) -> Drawn {
+        #[cfg(target_arch = "x86_64")]
+        if simd && std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked just above.
+            return unsafe { super::raster_x86::rows(self, rows, y0, y1, buf) };
+        }
+        let _ = simd;
+        self.rows(rows, y0, y1, buf)
+    }
+
     /// Draws rows `y0 ..= y1` of the tet, the covered run of each from `rows`, batching pixels
     /// of consecutive rows into the lanes of the fragment math.
     #[inline(always)]
@@ -551,5 +624,111 @@ mod tests {
             cases > 3000 && small > 1000,
             "{cases} cases, {small} on the mask path"
         );
+    }
+
+    /// Passes all bits of each fragment's (Sf, Sb, l) into the buffer (mixed, as three
+    /// integers a float holds exactly; alpha 1/4), signed zeros included. NaNs count as one
+    /// value: which NaN an operation gives depends on the order the compiler picks for the
+    /// operands of a commutative one, and every use of a fragment treats all NaNs alike.
+    struct Record;
+    impl Shade for Record {
+        type Prep = Lanes;
+        fn prep(&self, f: &Lanes) -> Lanes {
+            *f
+        }
+        fn at(&self, f: &Lanes, i: usize) -> [f32; 4] {
+            let b = |x: f32| if x.is_nan() { f32::NAN } else { x }.to_bits();
+            let m = b(f[0][i]) ^ b(f[1][i]).rotate_left(11) ^ b(f[2][i]).rotate_left(22);
+            [
+                (m & 0xfff) as f32,
+                (m >> 12 & 0xfff) as f32,
+                (m >> 24) as f32,
+                0.25,
+            ]
+        }
+    }
+
+    /// Draws into a buffer, by the explicit-SIMD rows or not: fragments and newly opaque pixels.
+    type DrawFn<'a> = dyn Fn(&mut [[f32; 4]], bool) -> (u64, usize) + 'a;
+
+    /// The explicit-SIMD rows against the scalar ones on random tets with random planes (now
+    /// and then ones that overflow to infinity or NaN), parallel and perspective, with a
+    /// recording shade and with pre-integrated tables: the same bits and counts.
+    #[test]
+    fn simd_rows_give_the_same_bits() {
+        let (w, h) = (80i64, 72i64);
+        let tiles = [(0, 0, 31, 31), (32, 32, 63, 63), (64, 32, 79, 71)];
+        let mut seed = 0x5851_f42d_4c95_7f2du64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let tables = super::super::shade::tests::tables();
+        let stretch: Vec<f32> = (0..w * h).map(|i| 1.0 + (i % 7) as f32 * 0.125).collect();
+        let mut compared = 0;
+        for case in 0..3000 {
+            let span = [6, 20, 70, 400][case % 4] * SUB;
+            let (cx, cy) = (
+                (rnd() % (w * SUB) as u64) as i64,
+                (rnd() % (h * SUB) as u64) as i64,
+            );
+            let mut p = [(0i64, 0i64); 4];
+            for q in &mut p {
+                *q = (
+                    cx + (rnd() % span as u64) as i64 - span / 2,
+                    cy + (rnd() % span as u64) as i64 - span / 2,
+                );
+            }
+            let Some(poly) = hull(p) else { continue };
+            let Some(mut t) = setup(&poly, w, h) else {
+                continue;
+            };
+            // Now and then a value the min, max, clamps and finiteness test must agree on.
+            const ODD: [f32; 6] = [0.0, -0.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, 1e38];
+            let mut val = |scale: f32| {
+                let u = (rnd() >> 40) as f32 / (1u64 << 24) as f32 - 0.5;
+                match rnd() % 24 {
+                    0..=5 => ODD[(rnd() % 6) as usize],
+                    _ => u * scale,
+                }
+            };
+            for k in 0..3 {
+                t.front[k] = [val(2.0), val(0.05), val(0.05)];
+                t.back[k] = [val(2.0) + 1.0, val(0.05), val(0.05)];
+            }
+            t.sref = [val(2.0), val(0.1), val(0.1)];
+            t.h = [val(2.0), val(0.1), val(0.1)];
+            t.w0 = 2.0 + val(1.0);
+            t.ox = val(40.0);
+            t.oy = val(40.0);
+            (t.smin, t.smax) = (-1.0 + val(1.0), 2.0 + val(1.0));
+            let parallel = case % 2 == 0;
+            for &tile in &tiles {
+                let npix = ((tile.2 - tile.0 + 1) * (tile.3 - tile.1 + 1)) as usize;
+                let run = |shade: &DrawFn| {
+                    let (mut a, mut b) = (vec![[0f32; 4]; npix], vec![[0f32; 4]; npix]);
+                    // Some pixels already part or fully opaque.
+                    for (k, (x, y)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
+                        if k % 5 == 0 {
+                            *x = [0.1, 0.2, 0.3, if k % 3 == 0 { 1.0 } else { 0.5 }];
+                            *y = *x;
+                        }
+                    }
+                    let (ra, rb) = (shade(&mut a, false), shade(&mut b, true));
+                    let bits =
+                        |v: &[[f32; 4]]| v.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+                    assert_eq!(bits(&a), bits(&b), "case {case} tile {tile:?}");
+                    assert_eq!(ra, rb, "case {case}");
+                };
+                let sw = w as usize;
+                run(&|buf, simd| raster_with(&t, parallel, tile, buf, &stretch, sw, &Record, simd));
+                let tab = &tables[case % tables.len()];
+                run(&|buf, simd| raster_with(&t, parallel, tile, buf, &stretch, sw, tab, simd));
+                compared += 1;
+            }
+        }
+        assert!(compared > 3000, "{compared}");
     }
 }

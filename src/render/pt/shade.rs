@@ -384,7 +384,7 @@ impl<const LINEAR: bool> Shade for TfShade<'_, LINEAR> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
 
@@ -462,7 +462,7 @@ mod tests {
         }
     }
 
-    fn tables() -> Vec<PreintTable> {
+    pub(crate) fn tables() -> Vec<PreintTable> {
         let tf = TransferFunction::build(
             &named_colormap("viridis").unwrap(),
             Some(&OpacitySpec::parse("0:0.1,0.5:0.9,1:0.3").unwrap()),

@@ -1,0 +1,197 @@
+//! The rasterizer's rows in explicit AVX2: each row's covered run goes into the lanes of a batch held in registers, and (Sf, Sb, l) come from the same operations as `raster::fragments`, in its order, so the bits are the same.
+
+use std::arch::x86_64::*;
+
+use super::raster::{Draw, Rows};
+use super::setup::TetSetup;
+use super::shade::{Drawn, Lanes, Shade, LANES};
+
+/// A batch of up to [`LANES`] pixels in registers (the lanes past the count hold stale pixels
+/// whose results are not used).
+struct Batch {
+    /// Pixel centre relative to vertex 0.
+    dx: __m256,
+    dy: __m256,
+    /// World length of the view ray per unit of depth.
+    st: __m256,
+    /// Index of the pixel in the tile buffer.
+    at: __m256i,
+}
+
+/// `max_of(a, b)` of `raster`, lane by lane: `b` where `a` is NaN or `b > a`, else `a`.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn max_of(a: __m256, b: __m256) -> __m256 {
+    _mm256_blendv_ps(_mm256_max_ps(b, a), b, _mm256_cmp_ps::<_CMP_UNORD_Q>(a, a))
+}
+
+/// `min_of(a, b)` of `raster`, lane by lane: `b` where `a` is NaN or `b < a`, else `a`.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn min_of(a: __m256, b: __m256) -> __m256 {
+    _mm256_blendv_ps(_mm256_min_ps(b, a), b, _mm256_cmp_ps::<_CMP_UNORD_Q>(a, a))
+}
+
+/// `clamp_to(x, lo, hi)` of `raster`, lane by lane.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn clamp_to(x: __m256, lo: __m256, hi: __m256) -> __m256 {
+    let x = _mm256_blendv_ps(x, lo, _mm256_cmp_ps::<_CMP_LT_OQ>(x, lo));
+    _mm256_blendv_ps(x, hi, _mm256_cmp_ps::<_CMP_GT_OQ>(x, hi))
+}
+
+/// (Sf, Sb, l) of a batch: `raster::fragments`, operation for operation.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> [__m256; 3] {
+    let ev = |p: &[f32; 3]| {
+        _mm256_add_ps(
+            _mm256_add_ps(
+                _mm256_set1_ps(p[0]),
+                _mm256_mul_ps(_mm256_set1_ps(p[2]), b.dy),
+            ),
+            _mm256_mul_ps(_mm256_set1_ps(p[1]), b.dx),
+        )
+    };
+    let (zf, zb);
+    if parallel {
+        zf = max_of(max_of(ev(&t.front[0]), ev(&t.front[1])), ev(&t.front[2]));
+        zb = min_of(min_of(ev(&t.back[0]), ev(&t.back[1])), ev(&t.back[2]));
+    } else {
+        let df = min_of(min_of(ev(&t.front[0]), ev(&t.front[1])), ev(&t.front[2]));
+        let db = max_of(max_of(ev(&t.back[0]), ev(&t.back[1])), ev(&t.back[2]));
+        let w0 = _mm256_set1_ps(t.w0);
+        let sign = _mm256_set1_ps(-0.0);
+        // z - z0 = -d / (w0 (w0 + d)), the negation first as the scalar `-df / (...)`.
+        let z = |d: __m256| {
+            _mm256_div_ps(
+                _mm256_xor_ps(d, sign),
+                _mm256_mul_ps(w0, _mm256_add_ps(w0, d)),
+            )
+        };
+        zf = z(df);
+        zb = z(db);
+    }
+    let sref = ev(&t.sref);
+    let h = ev(&t.h);
+    let (lo, hi) = (_mm256_set1_ps(t.smin), _mm256_set1_ps(t.smax));
+    let sf = clamp_to(_mm256_add_ps(sref, _mm256_mul_ps(zf, h)), lo, hi);
+    let sb = clamp_to(_mm256_add_ps(sref, _mm256_mul_ps(zb, h)), lo, hi);
+    let li = max_of(
+        _mm256_mul_ps(_mm256_sub_ps(zb, zf), b.st),
+        _mm256_setzero_ps(),
+    );
+    // `is_finite`: |li| below infinity (false for NaN), else 0.
+    let abs = _mm256_andnot_ps(_mm256_set1_ps(-0.0), li);
+    let finite = _mm256_cmp_ps::<_CMP_LT_OQ>(abs, _mm256_set1_ps(f32::INFINITY));
+    [sf, sb, _mm256_and_ps(li, finite)]
+}
+
+/// Shades the first `n` lanes of `b` and composites them behind what `buf` holds.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn flush<S: Shade>(
+    t: &TetSetup,
+    parallel: bool,
+    b: &Batch,
+    n: usize,
+    buf: &mut [[f32; 4]],
+    shade: &S,
+    d: &mut Drawn,
+) {
+    let v = fragments(t, parallel, b);
+    let mut f: Lanes = [[0.0; LANES]; 3];
+    let mut at = [0usize; LANES];
+    // SAFETY: each store writes 32 bytes into an array of that size (`f[k]`: 8 floats; `at`:
+    // 8 `usize` of 8 bytes, two stores of four).
+    unsafe {
+        for (k, lane) in f.iter_mut().enumerate() {
+            _mm256_storeu_ps(lane.as_mut_ptr(), v[k]);
+        }
+        // Tile indices are never negative: widening as unsigned is `as usize`.
+        let p = at.as_mut_ptr().cast::<__m256i>();
+        _mm256_storeu_si256(p, _mm256_cvtepu32_epi64(_mm256_castsi256_si128(b.at)));
+        _mm256_storeu_si256(
+            p.add(1),
+            _mm256_cvtepu32_epi64(_mm256_extracti128_si256::<1>(b.at)),
+        );
+    }
+    shade.composite(&f, &at, n, buf, d);
+}
+
+/// `Draw::rows` with the batch in registers: each row's run fills lanes `n ..` at once (a
+/// lane's pixel is `x - n + lane`), with no per-pixel loop or scalar stores.
+///
+/// # Safety
+/// The CPU has AVX2.
+#[inline]
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn rows<S: Shade, R: Rows>(
+    draw: &Draw<S>,
+    mut rows: R,
+    y0: i64,
+    y1: i64,
+    buf: &mut [[f32; 4]],
+) -> Drawn {
+    let (t, parallel, shade) = (draw.t, draw.parallel, draw.shade);
+    let (tx0, ty0, tx1, _) = draw.tile;
+    let tw = tx1 - tx0 + 1;
+    let mut d = Drawn::default();
+    let zero = _mm256_setzero_ps();
+    let mut b = Batch {
+        dx: zero,
+        dy: zero,
+        st: zero,
+        at: _mm256_setzero_si256(),
+    };
+    let mut n = 0i64;
+    let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    let (half, ox) = (_mm256_set1_ps(0.5), _mm256_set1_ps(t.ox));
+    for y in y0..=y1 {
+        let Some((xa, xb)) = rows.next_row() else {
+            continue;
+        };
+        let dy = _mm256_set1_ps(y as f32 + 0.5 - t.oy);
+        let row = (y - ty0) * tw;
+        let s0 = y as usize * draw.width;
+        // The run's stretch values, bounds checked once as `Draw::rows` does.
+        let run = &draw.stretch[s0 + xa as usize..=s0 + xb as usize];
+        let mut x = xa;
+        loop {
+            let take = (xb - x + 1).min(LANES as i64 - n);
+            // Lanes `n .. n + take` take pixels `x ..`: lane `i` has pixel `x - n + i`.
+            let first = x - n;
+            let px = _mm256_add_epi32(_mm256_set1_epi32(first as i32), lane);
+            let m = _mm256_andnot_si256(
+                _mm256_cmpgt_epi32(_mm256_set1_epi32(n as i32), lane),
+                _mm256_cmpgt_epi32(_mm256_set1_epi32((n + take) as i32), lane),
+            );
+            let mf = _mm256_castsi256_ps(m);
+            let dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(px), half), ox);
+            b.dx = _mm256_blendv_ps(b.dx, dx, mf);
+            b.dy = _mm256_blendv_ps(b.dy, dy, mf);
+            // Lane `i` reads `run[x - xa - n + i]`; only the lanes in `m` are read, and those
+            // are `run[x - xa ..= x - xa + take - 1]`, inside the run (`x + take - 1 <= xb`).
+            let from = run.as_ptr().wrapping_offset((x - xa - n) as isize);
+            // SAFETY: a masked load touches only the lanes in its mask, all inside `run` (see
+            // above); the CPU has AVX2 (the caller's promise).
+            let st = unsafe { _mm256_maskload_ps(from, m) };
+            b.st = _mm256_blendv_ps(b.st, st, mf);
+            let at = _mm256_add_epi32(_mm256_set1_epi32((row - tx0) as i32), px);
+            b.at = _mm256_blendv_epi8(b.at, at, m);
+            n += take;
+            x += take;
+            if n == LANES as i64 {
+                flush(t, parallel, &b, LANES, buf, shade, &mut d);
+                n = 0;
+            }
+            if x > xb {
+                break;
+            }
+        }
+    }
+    if n > 0 {
+        flush(t, parallel, &b, n as usize, buf, shade, &mut d);
+    }
+    d
+}
