@@ -10,6 +10,7 @@ pub mod camera;
 pub mod cli;
 pub mod geom;
 pub mod locate;
+pub(crate) mod mem;
 pub mod mesh;
 pub mod partition;
 pub mod render;

@@ -199,6 +199,11 @@ impl<'m> Sorter<'m> {
         } else {
             0
         };
+        // Every frame reads these out of their order (points and neighbours by tet): in huge
+        // pages those reads stop missing the TLB.
+        crate::mem::collapse_huge(&mesh.points);
+        crate::mem::collapse_huge(&mesh.tets);
+        crate::mem::collapse_huge(&adj.neighbors);
         let flip: Vec<u8> = (0..n)
             .into_par_iter()
             .map(|t| {
@@ -290,7 +295,11 @@ impl<'m> Sorter<'m> {
             Viewpoint::Eye(e) => side::eye_error_bound(&self.bounds, e),
             Viewpoint::Direction(_) => 0.0,
         };
-        let (mut post, indeg): (Vec<u8>, Vec<AtomicU32>) = (0..n)
+        // The peel decrements `indeg` and writes `layer` all over: huge pages (see `mem`).
+        let mut post: Vec<u8> = Vec::with_capacity(n);
+        let mut indeg: Vec<AtomicU32> = Vec::with_capacity(n);
+        crate::mem::huge_pages(&mut indeg);
+        (0..n)
             .into_par_iter()
             .with_min_len(4096)
             .map(|t| {
@@ -322,7 +331,7 @@ impl<'m> Sorter<'m> {
                 }
                 (post, AtomicU32::new(pre))
             })
-            .unzip();
+            .unzip_into_vecs(&mut post, &mut indeg);
         let face_constraints = post.par_iter().map(|b| b.count_ones() as usize).sum();
         let leaves: &[Vec<u32>] = if kd {
             &self.leaf_tets
@@ -361,10 +370,12 @@ impl<'m> Sorter<'m> {
             }
             (off, extra.iter().map(|e| e.1).collect::<Vec<u32>>())
         };
-        let layer: Vec<AtomicU32> = (0..n)
+        let mut layer: Vec<AtomicU32> = Vec::with_capacity(n);
+        crate::mem::huge_pages(&mut layer);
+        (0..n)
             .into_par_iter()
             .map(|_| AtomicU32::new(peel::UNSET))
-            .collect();
+            .collect_into_vec(&mut layer);
         let g = peel::Graph {
             neighbors: nbr,
             post: &post,
@@ -396,7 +407,12 @@ impl<'m> Sorter<'m> {
         }
         // Within a leaf: by layer, then by tet id (deterministic), by counting sort, every leaf
         // into its own range of the order.
-        let order: Vec<AtomicU32> = (0..n).into_par_iter().map(|_| AtomicU32::new(0)).collect();
+        let mut order: Vec<AtomicU32> = Vec::with_capacity(n);
+        crate::mem::huge_pages(&mut order);
+        (0..n)
+            .into_par_iter()
+            .map(|_| AtomicU32::new(0))
+            .collect_into_vec(&mut order);
         let mut at = Vec::with_capacity(leaf_order.len());
         let mut acc = 0usize;
         for &l in &leaf_order {
