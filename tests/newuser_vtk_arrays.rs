@@ -1,7 +1,9 @@
 //! Files VTK writes the way ParaView does (bit, string, id-type and ghost arrays, an information
 //! key, a triangle and a vertex beside the tets: scripts/newuser_paraview_like.py), in every XML
 //! data mode and compressor and both legacy versions: tetkit reads every one as VTK reads the
-//! VTU, and what `convert` writes from it reads back in VTK with every array and value.
+//! VTU, and what `convert` writes from it reads back in VTK with every array and value. Also:
+//! a written .pvtu names its active scalars, an ascii legacy output holding NaN is warned about,
+//! and an empty ascii array is placed at its tag (it said "byte 0").
 
 mod common;
 
@@ -130,4 +132,85 @@ fn a_binary_bit_array_with_the_wrong_byte_count_is_refused_by_name() {
         g.point_data.get("b").unwrap().data.to_f64_vec(),
         vec![1.0, 0.0, 1.0, 0.0]
     );
+}
+
+#[test]
+fn a_pvtu_names_its_active_scalars_for_paraview() {
+    if !require_vtk("a_pvtu_names_its_active_scalars_for_paraview") {
+        return;
+    }
+    // ParaView takes the active attributes of a .pvtu from its <PPointData>/<PCellData>, not
+    // from the pieces: without them the colouring array was lost on the way through a .pvtu.
+    let (dir, _) = paraview_like();
+    let out = dir.path().join("out.pvtu");
+    tetkit([
+        "convert".as_ref(),
+        dir.path().join("pv_binary_none.vtu").as_os_str(),
+        out.as_os_str(),
+    ])
+    .assert_success();
+    let name = vtk_python(
+        "import sys, vtk\nr = vtk.vtkXMLPUnstructuredGridReader()\nr.SetFileName(sys.argv[1])\nr.Update()\ns = r.GetOutput().GetPointData().GetScalars()\nprint(s.GetName() if s else None)",
+        &[out.to_str().unwrap()],
+    );
+    assert_eq!(name.trim(), "temp");
+}
+
+#[test]
+fn nan_in_an_ascii_legacy_output_is_warned_about() {
+    // VTK 9.1 stops reading an ascii legacy file at its first `nan`: say so when writing one.
+    let dir = tempdir();
+    let mut grid = tetkit::formats::read(&fixture("scenes/cube_mesh.vtk")).unwrap();
+    if let tetkit::formats::ArrayData::Float64(v) =
+        &mut grid.point_data.get_mut("scalar").unwrap().data
+    {
+        v[3] = f64::NAN;
+        v[4] = f64::INFINITY;
+    }
+    let input = dir.path().join("in.vtu");
+    tetkit::formats::write(&input, &grid, &Default::default()).unwrap();
+    for (enc, warned) in [("ascii", true), ("binary", false)] {
+        let out = dir.path().join(format!("{enc}.vtk"));
+        let run = tetkit([
+            "convert".as_ref(),
+            input.as_os_str(),
+            out.as_os_str(),
+            "--encoding".as_ref(),
+            enc.as_ref(),
+        ]);
+        run.assert_success();
+        assert_eq!(
+            run.stderr.contains("warning") && run.stderr.contains("'scalar'"),
+            warned,
+            "{enc}: {}",
+            run.stderr
+        );
+        // tetkit reads both back with the values.
+        let back = tetkit::formats::read(&out).unwrap();
+        let v = back.point_data.get("scalar").unwrap().data.to_f64_vec();
+        assert!(v[3].is_nan() && v[4] == f64::INFINITY, "{enc}");
+    }
+}
+
+#[test]
+fn an_empty_ascii_array_is_placed_at_its_tag() {
+    let dir = tempdir();
+    let path = dir.path().join("empty_offsets.vtu");
+    std::fs::write(
+        &path,
+        "<?xml version=\"1.0\"?><VTKFile type=\"UnstructuredGrid\" version=\"0.1\"><UnstructuredGrid>\
+         <Piece NumberOfPoints=\"4\" NumberOfCells=\"1\"><Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>\
+         <Cells><DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2 3</DataArray>\
+         <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\"></DataArray>\
+         <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10</DataArray></Cells></Piece></UnstructuredGrid></VTKFile>",
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let tag = text
+        .find("<DataArray type=\"Int32\" Name=\"offsets\"")
+        .unwrap();
+    tetkit(["info".as_ref(), path.as_os_str()]).assert_failure(&[
+        "empty_offsets.vtu",
+        &format!("byte {tag}: array 'offsets': has 0 ascii values, expected 1"),
+    ]);
 }

@@ -87,14 +87,90 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
     };
     let mut grid = super::read_input(&args.input)?;
     if args.tetrahedralize {
-        // TetGen files hold only tets; every other format keeps the boundary cells too.
-        let keep_lower = format != Format::TetGen;
-        let (tets, report) = tetrahedralize(&grid, keep_lower)
+        let (tets, report) = tetrahedralize(&grid, true)
             .with_context(|| format!("{}: tetrahedralizing", args.input.display()))?;
         for line in report.lines() {
             eprintln!("tetkit: {line}");
         }
         grid = tets;
+        if format == Format::TetGen {
+            // TetGen files hold tets and boundary triangles (.face): other lower cells go.
+            let keep: Vec<usize> = (0..grid.num_cells())
+                .filter(|&i| {
+                    matches!(
+                        grid.cells.types[i],
+                        formats::cell_type::TETRA | formats::cell_type::TRIANGLE
+                    )
+                })
+                .collect();
+            if keep.len() < grid.num_cells() {
+                eprintln!(
+                    "tetkit: dropped {} cells that TetGen files cannot hold (vertices, lines, quads, polygons...); tets and triangles are kept",
+                    grid.num_cells() - keep.len()
+                );
+                grid = crate::partition::input::keep_cells(&grid, &keep);
+            }
+        }
+    }
+    if format == Format::Legacy && matches!(args.encoding, EncodingArg::Ascii) {
+        // tetkit reads nan/inf back, VTK 9.1 does not (it stops reading the file there).
+        let bad: Vec<&str> = std::iter::once(&grid.points)
+            .chain(&grid.point_data.arrays)
+            .chain(&grid.cell_data.arrays)
+            .chain(&grid.field_data)
+            .filter(|a| {
+                a.data.scalar_type().is_some_and(|t| t.is_float())
+                    && (0..a.data.len()).any(|i| !a.data.get_f64(i).is_finite())
+            })
+            .map(|a| a.name.as_str())
+            .collect();
+        if !bad.is_empty() {
+            eprintln!(
+                "tetkit: warning: {}: arrays {} hold NaN or infinite values, which VTK 9.1 cannot read from an ascii legacy file (tetkit can); --encoding binary keeps them readable by both",
+                if to_stdout { "<stdout>".to_string() } else { args.output.display().to_string() },
+                bad.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ")
+            );
+        }
+    }
+    if format == Format::TetGen && !to_stdout {
+        // Said, not silent: what TetGen's columns of reals cannot hold.
+        let mut lost: Vec<String> = Vec::new();
+        for (what, attrs) in [("point", &grid.point_data), ("cell", &grid.cell_data)] {
+            for a in attrs
+                .arrays
+                .iter()
+                .filter(|a| a.data.scalar_type().is_none())
+            {
+                lost.push(format!("{what} array '{}' (strings)", a.name));
+            }
+        }
+        lost.extend(
+            grid.field_data
+                .iter()
+                .map(|a| format!("field data '{}'", a.name)),
+        );
+        use formats::cell_type as ct;
+        if let Some(i) = grid.cells.types.iter().position(|&t| {
+            !matches!(
+                t,
+                ct::TETRA | ct::QUADRATIC_TETRA | ct::TRIANGLE | ct::QUADRATIC_TRIANGLE
+            )
+        }) {
+            bail!(
+                "{}: TetGen files hold tetrahedra and their boundary triangles only, but cell {i} is a {}; add --tetrahedralize",
+                args.output.display(),
+                ct::name(grid.cells.types[i])
+            );
+        }
+        formats::write(&args.output, &grid, &args.write_options())?;
+        if !lost.is_empty() {
+            eprintln!(
+                "tetkit: {}: TetGen files cannot hold {}: not written (use .vtu or .vtk to keep them)",
+                args.output.display(),
+                lost.join(", ")
+            );
+        }
+        return Ok(());
     }
     let opts = args.write_options();
     if to_stdout {
@@ -106,20 +182,6 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
             .and_then(|_| std::io::Write::flush(&mut out))
             .context("writing stdout")?;
         return Ok(());
-    }
-    if format == Format::TetGen {
-        if let Some(i) = grid
-            .cells
-            .types
-            .iter()
-            .position(|&t| t != formats::cell_type::TETRA)
-        {
-            bail!(
-                "{}: TetGen files hold only linear tetrahedra, but cell {i} is a {}; add --tetrahedralize",
-                args.output.display(),
-                formats::cell_type::name(grid.cells.types[i])
-            );
-        }
     }
     formats::write(&args.output, &grid, &opts)?;
     Ok(())

@@ -29,8 +29,15 @@ pub fn without_ghost_cells(grid: &Grid) -> Option<(Grid, Vec<usize>)> {
         return None;
     }
     let keep: Vec<usize> = (0..n).filter(|&i| drawn(i)).collect();
+    Some((keep_cells(grid, &keep), keep))
+}
+
+/// The cells of `grid` at `keep` (in that order), with their cell data and polyhedron faces;
+/// points, point data and field data unchanged.
+pub fn keep_cells(grid: &Grid, keep: &[usize]) -> Grid {
+    let n = grid.num_cells();
     let mut cells = formats::Cells::new();
-    for &i in &keep {
+    for &i in keep {
         cells.push(grid.cells.types[i], grid.cells.cell(i));
     }
     if let Some((faces, ends)) = &grid.cells.polyhedron_faces {
@@ -44,21 +51,26 @@ pub fn without_ghost_cells(grid: &Grid) -> Option<(Grid, Vec<usize>)> {
             }
         }
         let (mut f, mut o) = (Vec::new(), Vec::with_capacity(keep.len()));
-        for &i in &keep {
-            match ends.get(i) {
-                Some(&e) if e >= 0 => {
-                    f.extend_from_slice(&faces[starts[i] as usize..e as usize]);
+        for &i in keep {
+            // A validated grid's streams are in order; a stream that is not stays out.
+            let stream = ends
+                .get(i)
+                .filter(|&&e| e >= 0)
+                .and_then(|&e| faces.get(starts[i] as usize..e as usize));
+            match stream {
+                Some(st) => {
+                    f.extend_from_slice(st);
                     o.push(f.len() as i64);
                 }
-                _ => o.push(-1),
+                None => o.push(-1),
             }
         }
         cells.polyhedron_faces = Some((f, o));
     }
     let mut g = grid.clone();
     g.cells = cells;
-    g.cell_data = grid.cell_data.gather(&keep);
-    Some((g, keep))
+    g.cell_data = grid.cell_data.gather(keep);
+    g
 }
 
 /// Whether `grid` carries integer `original_cell_id`s (a tetrahedralized or split mesh), which

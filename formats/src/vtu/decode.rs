@@ -420,8 +420,14 @@ fn ascii(a: &ArrayXml, ty: ScalarType, need: Option<usize>) -> Result<ArrayData>
     };
     if let Some(n) = need {
         if data.len() != n {
+            // An element with no text has no text position: name its tag.
+            let pos = if a.text.is_empty() {
+                a.tag_pos
+            } else {
+                a.text_pos
+            };
             return Err(err_at(
-                a.text_pos,
+                pos,
                 a,
                 format!("has {} ascii values, expected {n}", data.len()),
             ));

@@ -154,11 +154,20 @@ pub fn write(path: &Path, pieces: &[Grid], opts: &WriteOptions) -> Result<()> {
             "LittleEndian"
         }
     );
-    x.push_str("    <PPointData>\n");
+    // The active attributes, as ParaView reads them from the .pvtu (not from the pieces).
+    let _ = writeln!(
+        x,
+        "    <PPointData{}>",
+        super::write::active_attrs(&first.point_data)
+    );
     for a in &first.point_data.arrays {
         p_array(&mut x, "      ", a);
     }
-    x.push_str("    </PPointData>\n    <PCellData>\n");
+    let _ = writeln!(
+        x,
+        "    </PPointData>\n    <PCellData{}>",
+        super::write::active_attrs(&first.cell_data)
+    );
     for a in &first.cell_data.arrays {
         p_array(&mut x, "      ", a);
     }

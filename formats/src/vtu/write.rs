@@ -223,7 +223,8 @@ fn element(s: &mut String, indent: &str, o: &Out, st: &Stored, offset: &mut u64)
     }
 }
 
-fn active_attrs(a: &Attributes) -> String {
+/// ` Scalars="name" ...`: the active attributes of `a` that exist, as XML attributes.
+pub(crate) fn active_attrs(a: &Attributes) -> String {
     let mut s = String::new();
     for (role, name) in &a.active {
         if a.get(name).is_some() {

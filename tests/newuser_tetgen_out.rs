@@ -1,0 +1,108 @@
+//! `convert` to TetGen files from what users have: a TetGen mesh read with its `.face` (it was
+//! refused: "TetGen files hold only linear tetrahedra"), quadratic TetGen output (`-o2`), a Gmsh
+//! mesh with `--tetrahedralize` (its boundary triangles used to be dropped though the writer
+//! makes `.face`), and ParaView-like arrays TetGen cannot hold (dropped silently before; now
+//! named on stderr).
+
+mod common;
+
+use common::{fixture, tempdir, tetkit};
+use tetkit::formats::{self, cell_type};
+
+#[test]
+fn tetgen_meshes_with_boundary_faces_convert_back_to_tetgen() {
+    let dir = tempdir();
+    for name in ["tetgen/torus.1.ele", "tetgen/quadratic.1.ele"] {
+        let input = fixture(name);
+        let out = dir.path().join("out.ele");
+        tetkit(["convert".as_ref(), input.as_os_str(), out.as_os_str()]).assert_success();
+        assert!(dir.path().join("out.face").is_file(), "{name}: no .face");
+        let a = formats::read(&input).unwrap();
+        let b = formats::read(&out).unwrap();
+        assert_eq!(a.cells, b.cells, "{name}");
+        assert_eq!(
+            a.points.data.to_f64_vec(),
+            b.points.data.to_f64_vec(),
+            "{name}"
+        );
+        assert_eq!(
+            a.cell_data.get("boundary_marker"),
+            b.cell_data.get("boundary_marker"),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn tetrahedralize_to_tetgen_keeps_the_boundary_triangles() {
+    let dir = tempdir();
+    let input = fixture("gmsh/cavity.vtk");
+    let grid = formats::read(&input).unwrap();
+    let count = |g: &formats::Grid, t: u8| g.cells.types.iter().filter(|&&x| x == t).count();
+    let out = dir.path().join("cavity.ele");
+    let run = tetkit([
+        "convert".as_ref(),
+        input.as_os_str(),
+        out.as_os_str(),
+        "--tetrahedralize".as_ref(),
+    ]);
+    run.assert_success();
+    // Gmsh's vertices and lines cannot be TetGen records: dropped, and said.
+    let lower = count(&grid, cell_type::VERTEX) + count(&grid, cell_type::LINE);
+    assert!(
+        run.stderr.contains(&format!(
+            "dropped {lower} cells that TetGen files cannot hold"
+        )),
+        "{}",
+        run.stderr
+    );
+    let back = formats::read(&out).unwrap();
+    assert_eq!(
+        count(&back, cell_type::TRIANGLE),
+        count(&grid, cell_type::TRIANGLE)
+    );
+    assert_eq!(
+        count(&back, cell_type::TETRA),
+        count(&grid, cell_type::TETRA)
+    );
+    assert_eq!(back.num_cells(), grid.num_cells() - lower);
+}
+
+#[test]
+fn what_tetgen_cannot_hold_is_named_not_silently_dropped() {
+    let dir = tempdir();
+    let input = dir.path().join("in.vtu");
+    // Point and cell strings and field data, as ParaView files carry.
+    let mut grid = formats::read(&fixture("scenes/cube_mesh.vtk")).unwrap();
+    let n = grid.num_points();
+    grid.point_data.insert(formats::DataArray::new(
+        "label",
+        1,
+        formats::ArrayData::String((0..n).map(|i| format!("p{i}")).collect()),
+    ));
+    grid.field_data.push(formats::DataArray::new(
+        "units",
+        1,
+        formats::ArrayData::String(vec!["m".into()]),
+    ));
+    formats::write(&input, &grid, &Default::default()).unwrap();
+    let out = dir.path().join("out.ele");
+    let run = tetkit(["convert".as_ref(), input.as_os_str(), out.as_os_str()]);
+    run.assert_success();
+    for needle in [
+        "out.ele",
+        "point array 'label' (strings)",
+        "field data 'units'",
+    ] {
+        assert!(run.stderr.contains(needle), "{needle}: {}", run.stderr);
+    }
+    // A cell TetGen cannot hold still fails before writing anything, naming the fix.
+    let bad = dir.path().join("bad.ele");
+    tetkit([
+        "convert".as_ref(),
+        fixture("mixed/mixed.vtk").as_os_str(),
+        bad.as_os_str(),
+    ])
+    .assert_failure(&["bad.ele", "cell 0 is a hexahedron", "--tetrahedralize"]);
+    assert!(!bad.exists() && !dir.path().join("bad.node").exists());
+}
