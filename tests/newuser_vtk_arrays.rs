@@ -2,7 +2,8 @@
 //! key, a triangle and a vertex beside the tets: scripts/newuser_paraview_like.py), in every XML
 //! data mode and compressor and both legacy versions: tetkit reads every one as VTK reads the
 //! VTU, and what `convert` writes from it reads back in VTK with every array and value. Also:
-//! a written .pvtu names its active scalars, an ascii legacy output holding NaN is warned about,
+//! a written .pvtu names its active scalars, `info` counts NaN/inf values and names active arrays,
+//! an ascii legacy output holding NaN is warned about,
 //! and an empty ascii array is placed at its tag (it said "byte 0").
 
 mod common;
@@ -167,8 +168,28 @@ fn nan_in_an_ascii_legacy_output_is_warned_about() {
         v[3] = f64::NAN;
         v[4] = f64::INFINITY;
     }
+    grid.point_data
+        .active
+        .push((tetkit::formats::Attribute::Scalars, "scalar".to_string()));
     let input = dir.path().join("in.vtu");
     tetkit::formats::write(&input, &grid, &Default::default()).unwrap();
+    // `info` counts them apart from the range (which leaves them out) and names the active array.
+    let run = tetkit(["info".as_ref(), input.as_os_str(), "--json".as_ref()]);
+    run.assert_success();
+    let info: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let a = &info["point_data"][0];
+    assert_eq!(a["name"], "scalar");
+    assert_eq!(
+        (a["nan"].as_u64(), a["inf"].as_u64()),
+        (Some(1), Some(1)),
+        "{a}"
+    );
+    assert_eq!(a["active"], serde_json::json!(["Scalars"]));
+    let text = tetkit(["info".as_ref(), input.as_os_str()]).stdout_str();
+    assert!(
+        text.contains("(1 NaN, 1 infinite)  active Scalars"),
+        "{text}"
+    );
     for (enc, warned) in [("ascii", true), ("binary", false)] {
         let out = dir.path().join(format!("{enc}.vtk"));
         let run = tetkit([

@@ -1,7 +1,7 @@
 //! `tetkit info`: what a mesh file holds.
 
 use clap::Args;
-use formats::{cell_type, DataArray, Grid};
+use formats::{cell_type, Attributes, DataArray, Grid};
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -14,8 +14,31 @@ pub struct InfoArgs {
     pub json: bool,
 }
 
-fn array_json(a: &DataArray) -> Value {
+/// NaN and infinite values of a float array (the range leaves them out, as VTK's finite range
+/// does, so they are counted apart rather than hidden).
+fn non_finite(a: &DataArray) -> (usize, usize) {
+    if !a.data.scalar_type().is_some_and(|t| t.is_float()) {
+        return (0, 0);
+    }
+    (0..a.data.len()).fold((0, 0), |(nan, inf), i| {
+        let v = a.data.get_f64(i);
+        (nan + v.is_nan() as usize, inf + v.is_infinite() as usize)
+    })
+}
+
+/// The roles (Scalars, Vectors, ...) `a` is the active array of.
+fn roles(attrs: &Attributes, a: &DataArray) -> Vec<&'static str> {
+    attrs
+        .active
+        .iter()
+        .filter(|(_, n)| *n == a.name)
+        .map(|(r, _)| r.xml_name())
+        .collect()
+}
+
+fn array_json(a: &DataArray, attrs: Option<&Attributes>) -> Value {
     let range = a.magnitude_range();
+    let (nan, inf) = non_finite(a);
     json!({
         "name": a.name,
         "type": a.data.type_name(),
@@ -23,6 +46,9 @@ fn array_json(a: &DataArray) -> Value {
         "component_names": a.component_names,
         "tuples": a.tuples(),
         "range": range.map(|(lo, hi)| vec![lo, hi]),
+        "nan": nan,
+        "inf": inf,
+        "active": attrs.map(|t| roles(t, a)).unwrap_or_default(),
     })
 }
 
@@ -39,13 +65,13 @@ pub fn summary(grid: &Grid) -> Value {
         "points_type": grid.points.data.type_name(),
         "cell_types": types,
         "bounds": grid.bounds().map(|b| b.to_vec()),
-        "point_data": grid.point_data.arrays.iter().map(array_json).collect::<Vec<_>>(),
-        "cell_data": grid.cell_data.arrays.iter().map(array_json).collect::<Vec<_>>(),
-        "field_data": grid.field_data.iter().map(array_json).collect::<Vec<_>>(),
+        "point_data": grid.point_data.arrays.iter().map(|a| array_json(a, Some(&grid.point_data))).collect::<Vec<_>>(),
+        "cell_data": grid.cell_data.arrays.iter().map(|a| array_json(a, Some(&grid.cell_data))).collect::<Vec<_>>(),
+        "field_data": grid.field_data.iter().map(|a| array_json(a, None)).collect::<Vec<_>>(),
     })
 }
 
-fn print_arrays(title: &str, arrays: &[DataArray]) {
+fn print_arrays(title: &str, arrays: &[DataArray], attrs: Option<&Attributes>) {
     if arrays.is_empty() {
         return;
     }
@@ -56,11 +82,19 @@ fn print_arrays(title: &str, arrays: &[DataArray]) {
             None => "-".to_string(),
         };
         let mag = if a.components > 1 { " (magnitude)" } else { "" };
-        let names = if a.component_names.is_empty() {
+        let mut names = if a.component_names.is_empty() {
             String::new()
         } else {
             format!("  components ({})", a.component_names.join(", "))
         };
+        let (nan, inf) = non_finite(a);
+        if nan + inf > 0 {
+            names.push_str(&format!("  ({nan} NaN, {inf} infinite)"));
+        }
+        let active = attrs.map(|t| roles(t, a)).unwrap_or_default();
+        if !active.is_empty() {
+            names.push_str(&format!("  active {}", active.join(", ")));
+        }
         println!(
             "  {:<24} {:<8} {:>2} comp  {:>10} tuples  range {range}{mag}{names}",
             a.name,
@@ -95,8 +129,12 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
             b[0], b[1], b[2], b[3], b[4], b[5]
         );
     }
-    print_arrays("point data", &grid.point_data.arrays);
-    print_arrays("cell data", &grid.cell_data.arrays);
-    print_arrays("field data", &grid.field_data);
+    print_arrays(
+        "point data",
+        &grid.point_data.arrays,
+        Some(&grid.point_data),
+    );
+    print_arrays("cell data", &grid.cell_data.arrays, Some(&grid.cell_data));
+    print_arrays("field data", &grid.field_data, None);
     Ok(())
 }

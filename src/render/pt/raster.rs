@@ -379,11 +379,22 @@ pub(crate) fn raster<S: Shade>(
     width: usize,
     shade: &S,
 ) -> (u64, usize) {
-    raster_with(t, parallel, tile, buf, stretch, width, shade, true)
+    raster_with(t, parallel, tile, buf, stretch, width, shade, Path::Best)
 }
 
-/// [`raster`] with the explicit-SIMD rows allowed (`simd`, where the CPU has them) or not: the
-/// same bits either way.
+/// Which rows [`raster_with`] may take: every path gives the same bits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Path {
+    /// The portable rows.
+    Scalar,
+    /// Explicit AVX2 where the CPU has it (the tests hold it to the others' bits).
+    #[cfg_attr(not(test), allow(dead_code))]
+    Avx2,
+    /// The widest the CPU has (AVX-512, AVX2, or the portable rows).
+    Best,
+}
+
+/// [`raster`] with the rows of path `simd` (or the widest below it the CPU has).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn raster_with<S: Shade>(
@@ -394,7 +405,7 @@ pub(crate) fn raster_with<S: Shade>(
     stretch: &[f32],
     width: usize,
     shade: &S,
-    simd: bool,
+    simd: Path,
 ) -> (u64, usize) {
     let Some((x0, x1, y0, y1)) = t.clip(tile) else {
         return (0, 0);
@@ -438,7 +449,7 @@ pub(super) struct Draw<'a, S> {
 }
 
 impl<S: Shade> Draw<'_, S> {
-    /// [`Draw::rows`], in explicit AVX2 when `simd` and the CPU has it (the same bits).
+    /// [`Draw::rows`] by `simd`'s path, or the widest below it the CPU has (the same bits).
     #[inline(always)]
     fn run_with<R: Rows>(
         &self,
@@ -446,12 +457,19 @@ impl<S: Shade> Draw<'_, S> {
         y0: i64,
         y1: i64,
         buf: &mut [[f32; 4]],
-        simd: bool,
+        simd: Path,
     ) -> Drawn {
         #[cfg(target_arch = "x86_64")]
-        if simd && std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked just above.
-            return unsafe { super::raster_x86::rows(self, rows, y0, y1, buf) };
+        {
+            use std::arch::is_x86_feature_detected as has;
+            if simd == Path::Best && has!("avx2") && has!("avx512f") && has!("avx512vl") {
+                // SAFETY: the CPU has AVX2, AVX-512F and AVX-512VL, checked just above.
+                return unsafe { super::raster_x86::rows512(self, rows, y0, y1, buf) };
+            }
+            if simd != Path::Scalar && has!("avx2") {
+                // SAFETY: the CPU has AVX2, checked just above.
+                return unsafe { super::raster_x86::rows(self, rows, y0, y1, buf) };
+            }
         }
         let _ = simd;
         self.rows(rows, y0, y1, buf)
@@ -668,7 +686,7 @@ mod tests {
     }
 
     /// Draws into a buffer, by the explicit-SIMD rows or not: fragments and newly opaque pixels.
-    type DrawFn<'a> = dyn Fn(&mut [[f32; 4]], bool) -> (u64, usize) + 'a;
+    type DrawFn<'a> = dyn Fn(&mut [[f32; 4]], Path) -> (u64, usize) + 'a;
 
     /// The explicit-SIMD rows against the scalar ones on random tets with random planes (now
     /// and then ones that overflow to infinity or NaN), parallel and perspective, with a
@@ -735,11 +753,15 @@ mod tests {
                             *y = *x;
                         }
                     }
-                    let (ra, rb) = (shade(&mut a, false), shade(&mut b, true));
+                    let ra = shade(&mut a, Path::Scalar);
                     let bits =
                         |v: &[[f32; 4]]| v.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
-                    assert_eq!(bits(&a), bits(&b), "case {case} tile {tile:?}");
-                    assert_eq!(ra, rb, "case {case}");
+                    for path in [Path::Avx2, Path::Best] {
+                        let mut c = b.clone();
+                        let rc = shade(&mut c, path);
+                        assert_eq!(bits(&a), bits(&c), "case {case} tile {tile:?} {path:?}");
+                        assert_eq!(ra, rc, "case {case} {path:?}");
+                    }
                 };
                 let sw = w as usize;
                 run(&|buf, simd| raster_with(&t, parallel, tile, buf, &stretch, sw, &Record, simd));

@@ -1,4 +1,4 @@
-//! The rasterizer's rows in explicit AVX2: each row's covered run goes into the lanes of a batch held in registers, and (Sf, Sb, l) come from the same operations as `raster::fragments`, in its order, so the bits are the same.
+//! The rasterizer's rows in explicit AVX2 (also compiled for AVX-512): each row's covered run goes into the lanes of a batch held in registers, and (Sf, Sb, l) come from the same operations as `raster::fragments`, in its order, so the bits are the same.
 
 use std::arch::x86_64::*;
 
@@ -19,61 +19,74 @@ struct Batch {
 }
 
 /// `max_of(a, b)` of `raster`, lane by lane: `b` where `a` is NaN or `b > a`, else `a`.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn max_of(a: __m256, b: __m256) -> __m256 {
+#[inline(always)]
+unsafe fn max_of(a: __m256, b: __m256) -> __m256 {
     _mm256_blendv_ps(_mm256_max_ps(b, a), b, _mm256_cmp_ps::<_CMP_UNORD_Q>(a, a))
 }
 
 /// `min_of(a, b)` of `raster`, lane by lane: `b` where `a` is NaN or `b < a`, else `a`.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn min_of(a: __m256, b: __m256) -> __m256 {
+#[inline(always)]
+unsafe fn min_of(a: __m256, b: __m256) -> __m256 {
     _mm256_blendv_ps(_mm256_min_ps(b, a), b, _mm256_cmp_ps::<_CMP_UNORD_Q>(a, a))
 }
 
 /// `clamp_to(x, lo, hi)` of `raster`, lane by lane.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn clamp_to(x: __m256, lo: __m256, hi: __m256) -> __m256 {
+#[inline(always)]
+unsafe fn clamp_to(x: __m256, lo: __m256, hi: __m256) -> __m256 {
     let x = _mm256_blendv_ps(x, lo, _mm256_cmp_ps::<_CMP_LT_OQ>(x, lo));
     _mm256_blendv_ps(x, hi, _mm256_cmp_ps::<_CMP_GT_OQ>(x, hi))
 }
 
-/// (Sf, Sb, l) of a batch: `raster::fragments`, operation for operation.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> [__m256; 3] {
-    let ev = |p: &[f32; 3]| {
+/// Plane `p` over the lanes of `b`: `(c + ay dy) + ax dx`.
+#[inline(always)]
+unsafe fn ev(p: &[f32; 3], b: &Batch) -> __m256 {
+    _mm256_add_ps(
         _mm256_add_ps(
-            _mm256_add_ps(
-                _mm256_set1_ps(p[0]),
-                _mm256_mul_ps(_mm256_set1_ps(p[2]), b.dy),
-            ),
-            _mm256_mul_ps(_mm256_set1_ps(p[1]), b.dx),
-        )
-    };
+            _mm256_set1_ps(p[0]),
+            _mm256_mul_ps(_mm256_set1_ps(p[2]), b.dy),
+        ),
+        _mm256_mul_ps(_mm256_set1_ps(p[1]), b.dx),
+    )
+}
+
+/// Depth offset `z - z0 = -d / (w0 (w0 + d))` of a perspective plane value `d`, the negation
+/// first as the scalar `-df / (...)`.
+#[inline(always)]
+unsafe fn persp(d: __m256, w0: __m256) -> __m256 {
+    _mm256_div_ps(
+        _mm256_xor_ps(d, _mm256_set1_ps(-0.0)),
+        _mm256_mul_ps(w0, _mm256_add_ps(w0, d)),
+    )
+}
+
+/// (Sf, Sb, l) of a batch: `raster::fragments`, operation for operation.
+#[inline(always)]
+unsafe fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> [__m256; 3] {
     let (zf, zb);
     if parallel {
-        zf = max_of(max_of(ev(&t.front[0]), ev(&t.front[1])), ev(&t.front[2]));
-        zb = min_of(min_of(ev(&t.back[0]), ev(&t.back[1])), ev(&t.back[2]));
+        zf = max_of(
+            max_of(ev(&t.front[0], b), ev(&t.front[1], b)),
+            ev(&t.front[2], b),
+        );
+        zb = min_of(
+            min_of(ev(&t.back[0], b), ev(&t.back[1], b)),
+            ev(&t.back[2], b),
+        );
     } else {
-        let df = min_of(min_of(ev(&t.front[0]), ev(&t.front[1])), ev(&t.front[2]));
-        let db = max_of(max_of(ev(&t.back[0]), ev(&t.back[1])), ev(&t.back[2]));
+        let df = min_of(
+            min_of(ev(&t.front[0], b), ev(&t.front[1], b)),
+            ev(&t.front[2], b),
+        );
+        let db = max_of(
+            max_of(ev(&t.back[0], b), ev(&t.back[1], b)),
+            ev(&t.back[2], b),
+        );
         let w0 = _mm256_set1_ps(t.w0);
-        let sign = _mm256_set1_ps(-0.0);
-        // z - z0 = -d / (w0 (w0 + d)), the negation first as the scalar `-df / (...)`.
-        let z = |d: __m256| {
-            _mm256_div_ps(
-                _mm256_xor_ps(d, sign),
-                _mm256_mul_ps(w0, _mm256_add_ps(w0, d)),
-            )
-        };
-        zf = z(df);
-        zb = z(db);
+        zf = persp(df, w0);
+        zb = persp(db, w0);
     }
-    let sref = ev(&t.sref);
-    let h = ev(&t.h);
+    let sref = ev(&t.sref, b);
+    let h = ev(&t.h, b);
     let (lo, hi) = (_mm256_set1_ps(t.smin), _mm256_set1_ps(t.smax));
     let sf = clamp_to(_mm256_add_ps(sref, _mm256_mul_ps(zf, h)), lo, hi);
     let sb = clamp_to(_mm256_add_ps(sref, _mm256_mul_ps(zb, h)), lo, hi);
@@ -88,9 +101,8 @@ fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> [__m256; 3] {
 }
 
 /// Shades the first `n` lanes of `b` and composites them behind what `buf` holds.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn flush<S: Shade>(
+#[inline(always)]
+unsafe fn flush<S: Shade>(
     t: &TetSetup,
     parallel: bool,
     b: &Batch,
@@ -119,14 +131,48 @@ fn flush<S: Shade>(
     shade.composite(&f, &at, n, buf, d);
 }
 
-/// `Draw::rows` with the batch in registers: each row's run fills lanes `n ..` at once (a
-/// lane's pixel is `x - n + lane`), with no per-pixel loop or scalar stores.
+/// `Draw::rows` in explicit AVX2.
 ///
 /// # Safety
 /// The CPU has AVX2.
-#[inline]
 #[target_feature(enable = "avx2")]
 pub(super) unsafe fn rows<S: Shade, R: Rows>(
+    draw: &Draw<S>,
+    rows: R,
+    y0: i64,
+    y1: i64,
+    buf: &mut [[f32; 4]],
+) -> Drawn {
+    // SAFETY: the caller's promise.
+    unsafe { rows_body(draw, rows, y0, y1, buf) }
+}
+
+/// [`rows`] compiled for AVX-512 (F and VL) too: the same operations, but with 32 vector
+/// registers the plane coefficients stay in registers. No fused multiply-add: the same bits.
+///
+/// # Safety
+/// The CPU has AVX2, AVX-512F and AVX-512VL.
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+pub(super) unsafe fn rows512<S: Shade, R: Rows>(
+    draw: &Draw<S>,
+    rows: R,
+    y0: i64,
+    y1: i64,
+    buf: &mut [[f32; 4]],
+) -> Drawn {
+    // SAFETY: the caller's promise.
+    unsafe { rows_body(draw, rows, y0, y1, buf) }
+}
+
+/// `Draw::rows` with the batch in registers: each row's run fills lanes `n ..` at once (a
+/// lane's pixel is `x - n + lane`), with no per-pixel loop or scalar stores. Inlined into the
+/// functions above, which give the instruction set; this and the helpers above have none of
+/// their own, so they compile once per set.
+///
+/// # Safety
+/// The CPU has AVX2.
+#[inline(always)]
+unsafe fn rows_body<S: Shade, R: Rows>(
     draw: &Draw<S>,
     mut rows: R,
     y0: i64,
@@ -170,12 +216,19 @@ pub(super) unsafe fn rows<S: Shade, R: Rows>(
             let dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(px), half), ox);
             b.dx = _mm256_blendv_ps(b.dx, dx, mf);
             b.dy = _mm256_blendv_ps(b.dy, dy, mf);
-            // Lane `i` reads `run[x - xa - n + i]`; only the lanes in `m` are read, and those
-            // are `run[x - xa ..= x - xa + take - 1]`, inside the run (`x + take - 1 <= xb`).
-            let from = run.as_ptr().wrapping_offset((x - xa - n) as isize);
-            // SAFETY: a masked load touches only the lanes in its mask, all inside `run` (see
-            // above); the CPU has AVX2 (the caller's promise).
-            let st = unsafe { _mm256_maskload_ps(from, m) };
+            // Lane `i` wants `stretch[s0 + x - n + i]`; the lanes in `m` are
+            // `run[x - xa ..= x - xa + take - 1]`, inside the run (`x + take - 1 <= xb`).
+            let start = s0 as i64 + first;
+            let st = if start >= 0 && start as usize + LANES <= draw.stretch.len() {
+                // SAFETY: the 8 floats from `start` lie inside `stretch`, checked just above
+                // (the lanes outside `m` read other pixels, which the blend drops).
+                unsafe { _mm256_loadu_ps(draw.stretch.as_ptr().add(start as usize)) }
+            } else {
+                let from = run.as_ptr().wrapping_offset((x - xa - n) as isize);
+                // SAFETY: a masked load touches only the lanes in its mask, all inside `run`
+                // (see above); the CPU has AVX2 (the caller's promise).
+                unsafe { _mm256_maskload_ps(from, m) }
+            };
             b.st = _mm256_blendv_ps(b.st, st, mf);
             let at = _mm256_add_epi32(_mm256_set1_epi32((row - tx0) as i32), px);
             b.at = _mm256_blendv_epi8(b.at, at, m);
