@@ -104,13 +104,23 @@ impl<const L: usize> Cover<L> {
     #[inline(always)]
     fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<Cover<L>> {
         debug_assert!(w as usize <= L && L <= 16);
-        let n = t.nedges as usize;
+        // Edge k runs from corner k to the next; a triangle's unused slot repeats its first
+        // edge, so the minimum over all four is unchanged.
+        let p = &t.poly;
+        let tri = t.nedges != 4;
+        let from = [p[0], p[1], p[2], if tri { p[0] } else { p[3] }];
+        let to = [
+            p[1],
+            p[2],
+            if tri { p[0] } else { p[3] },
+            if tri { p[1] } else { p[0] },
+        ];
         let (mut xmin, mut xmax, mut ymin, mut ymax) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
-        for p in &t.poly[..n] {
-            xmin = xmin.min(p[0]);
-            xmax = xmax.max(p[0]);
-            ymin = ymin.min(p[1]);
-            ymax = ymax.max(p[1]);
+        for c in &from {
+            xmin = xmin.min(c[0]);
+            xmax = xmax.max(c[0]);
+            ymin = ymin.min(c[1]);
+            ymax = ymax.max(c[1]);
         }
         // Edge vectors are then at most `2^14` on each axis, and a lane's centre at most `2^14`
         // from every corner vertically and `2^14 + 16 * 256` horizontally (the box's first
@@ -118,19 +128,28 @@ impl<const L: usize> Cover<L> {
         if (xmax as i64 - xmin as i64) > EXTENT || (ymax as i64 - ymin as i64) > EXTENT {
             return None;
         }
-        let edges = t.edges();
+        // The box's first pixel centre, inside the silhouette's bounds: within `2^14` of
+        // every corner on each axis.
+        let (cx, cy) = (x0 * SUB + SUB / 2, y0 * SUB + SUB / 2);
+        let sub = SUB as i32;
         let mut row = [[0i32; L]; 4];
         let mut step = [0i32; 4];
         for k in 0..4 {
-            // Unused edge slots repeat the first edge: the minimum over all four is unchanged.
-            let e = &edges[if k < n { k } else { 0 }];
-            let ea = e.a * SUB;
-            let e0 = (ea * x0 + e.a * (SUB / 2) + e.b * (SUB * y0 + SUB / 2) + e.c + e.bias) as i32;
-            let ea = ea as i32;
+            // E(X, Y) = dx (Y - py) - dy (X - px), with the owner rule of [`Edge::new`]: the
+            // same integer as the `i64` edge function, every term bounded as above, so `i32`
+            // holds it exactly and the four edges go side by side.
+            let (dx, dy) = (to[k][0] - from[k][0], to[k][1] - from[k][1]);
+            let own = dy < 0 || (dy == 0 && dx > 0);
+            let (rx, ry) = (
+                (cx - from[k][0] as i64) as i32,
+                (cy - from[k][1] as i64) as i32,
+            );
+            let e0 = dx * ry - dy * rx - (!own) as i32;
+            let ea = -dy * sub;
             for (i, v) in row[k].iter_mut().enumerate() {
                 *v = e0 + ea * i as i32;
             }
-            step[k] = (e.b * SUB) as i32;
+            step[k] = dx * sub;
         }
         Some(Cover {
             row,
