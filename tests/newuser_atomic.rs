@@ -1,5 +1,6 @@
 //! `partition` writes the split mesh, the tree and optionally the leaf pieces: all of them or
-//! none. A split mesh that could not be written used to leave the tree file behind.
+//! none (a split mesh that could not be written used to leave the tree file behind); `tradeoff`
+//! leaves no results folder when it fails; `render` refuses image names it would not honour.
 
 mod common;
 
@@ -41,4 +42,36 @@ fn a_failed_partition_leaves_no_file_behind() {
             "{args:?}"
         );
     }
+}
+
+#[test]
+fn tradeoff_and_render_leave_nothing_on_bad_input() {
+    let dir = tempdir();
+    let input = fixture("gmsh/cavity.vtk");
+    // A tradeoff whose input or array is wrong used to leave an empty results folder.
+    let folder = dir.path().join("results");
+    for (mesh, extra) in [
+        (dir.path().join("missing.vtu"), vec![]),
+        (input.clone(), vec!["--scalar", "nope"]),
+    ] {
+        let mut args = vec![
+            "tradeoff".to_string(),
+            mesh.display().to_string(),
+            "-o".into(),
+            folder.display().to_string(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        tetkit(&args).assert_failure(&[]);
+        assert!(dir_listing(dir.path()).is_empty(), "{args:?}");
+    }
+    // render writes PNG only: another image extension is refused before anything is written.
+    let jpg = dir.path().join("view.jpg");
+    tetkit([
+        "render".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        jpg.as_os_str(),
+    ])
+    .assert_failure(&["view.jpg", "PNG"]);
+    assert!(dir_listing(dir.path()).is_empty());
 }

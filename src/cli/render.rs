@@ -430,6 +430,15 @@ pub fn frame_path(out: &Path, i: usize, n: usize) -> PathBuf {
 }
 
 pub fn run(args: &RenderArgs) -> Result<()> {
+    // PNG is the only image written: a .jpg or .tif name would get PNG bytes under a wrong name.
+    if let Some(ext) = args.output.extension() {
+        if !ext.eq_ignore_ascii_case("png") {
+            bail!(
+                "{}: render writes PNG images; name the output .png",
+                args.output.display()
+            );
+        }
+    }
     let look = &args.look;
     let frames = args.orbit.unwrap_or(1);
     if frames == 0 {

@@ -51,15 +51,34 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 pub fn run(args: &TradeoffArgs) -> Result<()> {
     let look = &args.look;
-    let repeat = args.repeat.max(1);
-    std::fs::create_dir_all(&args.output)
-        .with_context(|| format!("{}: creating folder", args.output.display()))?;
     let combos = SortChoice::ALL.len() * Integration::ALL.len();
     let mut progress = Progress::new(look.quiet, 3 + combos as u64, "tradeoff");
     let session = Session::open(&args.input, look)?;
     let cam = session.bounds_camera(&args.camera)?;
-    let (w, h) = look.size;
     progress.step("read");
+    // The folder is made once the input is read, and taken back if anything fails after: a
+    // failed run leaves no folder of partial results.
+    let created = !args.output.exists();
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("{}: creating folder", args.output.display()))?;
+    let result = measure(args, &session, &cam, &mut progress);
+    if result.is_err() && created {
+        let _ = std::fs::remove_dir_all(&args.output);
+    }
+    result
+}
+
+/// Everything `run` does once the input is read and the folder exists.
+fn measure(
+    args: &TradeoffArgs,
+    session: &Session,
+    cam: &crate::camera::Camera,
+    progress: &mut Progress,
+) -> Result<()> {
+    let look = &args.look;
+    let repeat = args.repeat.max(1);
+    let cam = *cam;
+    let (w, h) = look.size;
 
     // The reference.
     let t = Instant::now();
