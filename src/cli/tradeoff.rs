@@ -115,7 +115,7 @@ fn measure(
             for _ in 0..repeat {
                 let t = Instant::now();
                 let (order, sort_s) = order_for(Some(&sorter), session.mesh.tets.len(), &cam, sort);
-                let (im, _, _) = pt_frame(&session, &cam, w, h, &order, &shaders[mi]);
+                let (im, _, _) = pt_frame(session, &cam, w, h, &order, &shaders[mi]);
                 times.push(t.elapsed().as_secs_f64());
                 sort_times.push(sort_s);
                 img = Some(im);
