@@ -54,6 +54,7 @@ pub enum Command {
 
 /// Runs the command line; errors go to stderr with a non-zero exit code.
 pub fn main() -> ExitCode {
+    default_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
@@ -73,6 +74,19 @@ pub fn main() -> ExitCode {
             eprintln!("tetkit: error: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Rust starts programs with SIGPIPE ignored, so once a reader such as `head` closes the pipe,
+/// every `println!` panics ("failed printing to stdout: Broken pipe") and `convert -` fails
+/// with an error. Restoring the default makes `tetkit info mesh.vtu | head` end quietly, as
+/// `cat` and `grep` do.
+fn default_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first in `main`, before any thread is started; SIG_DFL is a valid
+    // disposition for SIGPIPE and no handler of ours is replaced.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 
