@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use crate::locate::{GridParams, TetLocator};
 use crate::mesh::TetMesh;
+use formats::ArrayData;
 
 #[derive(Args, Debug)]
 pub struct ProbeArgs {
@@ -84,39 +85,126 @@ pub fn gather_points(specs: &[String]) -> Result<Vec<[f64; 3]>> {
     Ok(out)
 }
 
-/// A located point: its tet and `(array name, tuple)` for every numeric array.
-pub type Probed = Option<(u32, Vec<(String, Vec<f64>)>)>;
+/// One probed value, kept in its array's kind so integers (ids, flags, markers) print exactly
+/// and strings print at all.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Sample {
+    Float(f64),
+    Int(i128),
+    Text(String),
+}
 
-/// Each point's tet and every array's value there (point data interpolated linearly, cell data
-/// of the containing tet); `None` outside the mesh.
+impl Sample {
+    /// Value `i` of `data` as it is stored.
+    fn of(data: &ArrayData, i: usize) -> Sample {
+        match data {
+            ArrayData::Int8(v) => Sample::Int(v[i].into()),
+            ArrayData::UInt8(v) => Sample::Int(v[i].into()),
+            ArrayData::Int16(v) => Sample::Int(v[i].into()),
+            ArrayData::UInt16(v) => Sample::Int(v[i].into()),
+            ArrayData::Int32(v) => Sample::Int(v[i].into()),
+            ArrayData::UInt32(v) => Sample::Int(v[i].into()),
+            ArrayData::Int64(v) => Sample::Int(v[i].into()),
+            ArrayData::UInt64(v) => Sample::Int(v[i].into()),
+            ArrayData::Float32(v) => Sample::Float(v[i].into()),
+            ArrayData::Float64(v) => Sample::Float(v[i]),
+            ArrayData::String(v) => Sample::Text(v[i].clone()),
+        }
+    }
+
+    fn to_json(&self) -> Value {
+        match self {
+            Sample::Float(x) => json!(x),
+            // Every stored integer type fits i64 or u64.
+            Sample::Int(x) => i64::try_from(*x)
+                .map(Value::from)
+                .or_else(|_| u64::try_from(*x).map(Value::from))
+                .unwrap_or(Value::Null),
+            Sample::Text(s) => json!(s),
+        }
+    }
+
+    fn to_csv(&self) -> String {
+        match self {
+            Sample::Float(x) => x.to_string(),
+            Sample::Int(x) => x.to_string(),
+            Sample::Text(s) => csv_field(s),
+        }
+    }
+}
+
+/// RFC 4180 quoting: a field holding a comma, a quote or a line break is quoted, its quotes
+/// doubled (array names and string values come from the file, and may hold any of them).
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// The name each array is reported under: its own, or `point:NAME` / `cell:NAME` when point and
+/// cell data both hold an array of that name (ParaView files often do), so neither hides the
+/// other in the JSON object or the CSV header.
+fn labels(mesh: &TetMesh) -> Vec<String> {
+    let in_cells = |n: &str| mesh.cell_data.arrays.iter().any(|a| a.name == n);
+    let in_points = |n: &str| mesh.point_data.arrays.iter().any(|a| a.name == n);
+    let points = mesh.point_data.arrays.iter().map(|a| {
+        if in_cells(&a.name) {
+            format!("point:{}", a.name)
+        } else {
+            a.name.clone()
+        }
+    });
+    let cells = mesh.cell_data.arrays.iter().map(|a| {
+        if in_points(&a.name) {
+            format!("cell:{}", a.name)
+        } else {
+            a.name.clone()
+        }
+    });
+    points.chain(cells).collect()
+}
+
+/// A located point: its tet and, for every point then cell array, its tuple there.
+pub type Probed = Option<(u32, Vec<Vec<Sample>>)>;
+
+/// Each point's tet and every array's value there, `None` outside the mesh. Float point data is
+/// interpolated linearly; integer and string point data take the nearest vertex's value (the
+/// largest barycentric weight), since a blend of ids, flags or markers means nothing (as
+/// `partition` does at new vertices); cell data is the containing tet's.
 pub fn probe(mesh: &TetMesh, loc: &TetLocator, points: &[[f64; 3]]) -> Vec<Probed> {
     points
         .iter()
         .map(|p| {
             let (t, b) = loc.locate(&mesh.points, &mesh.tets, p)?;
             let tet = mesh.tets[t as usize];
+            let nearest = (1..4).fold(0, |m, j| if b[j] > b[m] { j } else { m });
             let mut vals = Vec::new();
             for a in &mesh.point_data.arrays {
-                if a.data.scalar_type().is_none() {
-                    continue;
-                }
                 let c = a.components.max(1);
-                let v: Vec<f64> = (0..c)
+                let float = matches!(a.data, ArrayData::Float32(_) | ArrayData::Float64(_));
+                let v: Vec<Sample> = (0..c)
                     .map(|k| {
-                        (0..4)
-                            .map(|j| b[j] * a.data.get_f64(tet[j] as usize * c + k))
-                            .sum()
+                        if float {
+                            Sample::Float(
+                                (0..4)
+                                    .map(|j| b[j] * a.data.get_f64(tet[j] as usize * c + k))
+                                    .sum(),
+                            )
+                        } else {
+                            Sample::of(&a.data, tet[nearest] as usize * c + k)
+                        }
                     })
                     .collect();
-                vals.push((a.name.clone(), v));
+                vals.push(v);
             }
             for a in &mesh.cell_data.arrays {
-                if a.data.scalar_type().is_none() {
-                    continue;
-                }
                 let c = a.components.max(1);
-                let v: Vec<f64> = (0..c).map(|k| a.data.get_f64(t as usize * c + k)).collect();
-                vals.push((a.name.clone(), v));
+                let v = (0..c)
+                    .map(|k| Sample::of(&a.data, t as usize * c + k))
+                    .collect();
+                vals.push(v);
             }
             Some((t, vals))
         })
@@ -160,6 +248,7 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
         .into_iter()
         .map(|r| r.map(|(t, v)| (input_cell[t as usize] as u32, v)))
         .collect();
+    let names = labels(&mesh);
     let mut out = String::new();
     if args.json {
         for (p, r) in points.iter().zip(&results) {
@@ -167,8 +256,12 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
                 None => json!({"point": p, "tet": null}),
                 Some((t, vals)) => {
                     let mut m = serde_json::Map::new();
-                    for (n, v) in vals {
-                        m.insert(n.clone(), if v.len() == 1 { json!(v[0]) } else { json!(v) });
+                    for (n, v) in names.iter().zip(vals) {
+                        let value = match v.as_slice() {
+                            [one] => one.to_json(),
+                            many => Value::Array(many.iter().map(Sample::to_json).collect()),
+                        };
+                        m.insert(n.clone(), value);
                     }
                     json!({"point": p, "tet": t, "values": m})
                 }
@@ -179,17 +272,20 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
     } else {
         // Header from the arrays (same for every point).
         let mut header = vec!["x".to_string(), "y".into(), "z".into(), "tet".into()];
-        let mut widths = Vec::new();
-        for a in mesh.point_data.arrays.iter().chain(&mesh.cell_data.arrays) {
-            if a.data.scalar_type().is_none() {
-                continue;
-            }
+        let mut width = 0;
+        for (a, n) in mesh
+            .point_data
+            .arrays
+            .iter()
+            .chain(&mesh.cell_data.arrays)
+            .zip(&names)
+        {
             let c = a.components.max(1);
-            widths.push(c);
+            width += c;
             if c == 1 {
-                header.push(a.name.clone());
+                header.push(csv_field(n));
             } else {
-                header.extend((0..c).map(|k| format!("{}_{k}", a.name)));
+                header.extend((0..c).map(|k| csv_field(&format!("{n}_{k}"))));
             }
         }
         out.push_str(&header.join(","));
@@ -199,12 +295,12 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
             match r {
                 None => {
                     row.push(String::new());
-                    row.extend(std::iter::repeat_n(String::new(), widths.iter().sum()));
+                    row.extend(std::iter::repeat_n(String::new(), width));
                 }
                 Some((t, vals)) => {
                     row.push(t.to_string());
-                    for (_, v) in vals {
-                        row.extend(v.iter().map(|x| x.to_string()));
+                    for v in vals {
+                        row.extend(v.iter().map(Sample::to_csv));
                     }
                 }
             }

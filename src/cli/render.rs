@@ -75,8 +75,9 @@ pub struct LookArgs {
     /// Image size WIDTHxHEIGHT.
     #[arg(long, default_value = "512x512", value_parser = parse_size_arg)]
     pub size: (u32, u32),
-    /// Array to render (point data, else cell data; vectors by magnitude). Default: active point
-    /// scalars, else the first numeric array.
+    /// Array to render (point data, else cell data; `cell:NAME` for a cell array that shares
+    /// its name with a point array; vectors by magnitude). Default: active point scalars, else
+    /// the first numeric array.
     #[arg(long, value_name = "NAME")]
     pub scalar: Option<String>,
     /// Colormap name (cool-to-warm, viridis, inferno, ...) or a ParaView preset .json

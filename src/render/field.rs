@@ -30,8 +30,8 @@ fn values(a: &DataArray) -> Result<Vec<f64>> {
 }
 
 impl Field {
-    /// The array named `name` (point data first, then cell data; `coord:x|y|z|r` for a field of
-    /// the point coordinates), or without a name the active point scalars, else the first numeric
+    /// The array named `name` (point data first, then cell data; `point:NAME` or `cell:NAME`
+    /// for one of two arrays of that name; `coord:x|y|z|r` for a field of the point coordinates), or without a name the active point scalars, else the first numeric
     /// point array, else the first numeric cell array, else a constant (solid colour).
     pub fn select(mesh: &TetMesh, name: Option<&str>) -> Result<(String, Field)> {
         let numeric = |a: &&DataArray| a.data.scalar_type().is_some();
@@ -60,6 +60,17 @@ impl Field {
                 return Ok((n.to_string(), Field::Point(values(a)?)));
             }
             if let Some(a) = mesh.cell_data.get(n) {
+                return Ok((n.to_string(), Field::Cell(values(a)?)));
+            }
+            // A point and a cell array of one name (ParaView files often have both): the plain
+            // name finds the point one, `cell:NAME` the other (`probe` labels them so too).
+            if let Some(a) = n
+                .strip_prefix("point:")
+                .and_then(|m| mesh.point_data.get(m))
+            {
+                return Ok((n.to_string(), Field::Point(values(a)?)));
+            }
+            if let Some(a) = n.strip_prefix("cell:").and_then(|m| mesh.cell_data.get(m)) {
                 return Ok((n.to_string(), Field::Cell(values(a)?)));
             }
             let names: Vec<String> = mesh

@@ -1,0 +1,124 @@
+//! `probe` on the arrays ParaView files carry: a point and a cell array of the same name (the
+//! cell value silently replaced the point value in `--json`, and the CSV had two columns of one
+//! name), 64-bit ids (blended and printed as rounded floats: `2.0999999999999996` for a vertex
+//! id), string arrays (left out without a word) and names or strings holding commas and quotes
+//! (they broke the CSV's columns). Also `render --scalar cell:NAME` picks the cell array of such
+//! a pair, which could not be drawn before.
+
+mod common;
+
+use common::{tempdir, tetkit};
+use serde_json::Value;
+use tetkit::formats::{ArrayData, DataArray};
+use tetkit::mesh::generate::structured_grid;
+
+/// Splits one RFC 4180 line into its fields.
+fn csv_fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                out.last_mut().unwrap().push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(String::new()),
+            (c, _) => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
+}
+
+const BIG: i64 = (1 << 60) + 7;
+
+#[test]
+fn probe_keeps_every_array_apart_exact_and_quoted() {
+    let dir = tempdir();
+    let mut grid = structured_grid([3, 3, 3], [0.0; 3], [1.0; 3]).to_grid();
+    grid.point_data.arrays.clear();
+    grid.cell_data.arrays.clear();
+    let (np, nc) = (grid.num_points(), grid.num_cells());
+    let xyz = grid.points.data.to_f64_vec();
+    let pd = &mut grid.point_data;
+    pd.insert(DataArray::new(
+        "pressure",
+        1,
+        ArrayData::Float64(xyz.chunks(3).map(|p| p[0] + 2.0 * p[1]).collect()),
+    ));
+    pd.insert(DataArray::new(
+        "id",
+        1,
+        ArrayData::Int64((0..np as i64).map(|i| BIG + i).collect()),
+    ));
+    pd.insert(DataArray::new(
+        "label, \"quoted\"",
+        1,
+        ArrayData::String((0..np).map(|i| format!("v{i}, \"x\"")).collect()),
+    ));
+    grid.cell_data.insert(DataArray::new(
+        "pressure",
+        1,
+        ArrayData::Float32((0..nc).map(|i| 100.0 + i as f32).collect()),
+    ));
+    let input = dir.path().join("pair.vtu");
+    tetkit::formats::write(&input, &grid, &Default::default()).unwrap();
+
+    // Close to vertex 0, the corner (0, 0, 0): its weight is the largest.
+    let p = [0.01, 0.02, 0.03];
+    let spec = format!("{},{},{}", p[0], p[1], p[2]);
+    let json = tetkit([
+        "probe",
+        input.to_str().unwrap(),
+        "--points",
+        &spec,
+        "--json",
+    ]);
+    json.assert_success();
+    let v: Value = serde_json::from_str(json.stdout_str().trim()).unwrap();
+    let vals = &v["values"];
+    let tet = v["tet"].as_u64().unwrap() as usize;
+    assert!((vals["point:pressure"].as_f64().unwrap() - (p[0] + 2.0 * p[1])).abs() < 1e-12);
+    assert_eq!(vals["cell:pressure"].as_f64().unwrap(), 100.0 + tet as f64);
+    assert_eq!(vals["id"].as_i64(), Some(BIG), "{vals}");
+    assert_eq!(vals["label, \"quoted\""], "v0, \"x\"", "{vals}");
+
+    let csv = tetkit(["probe", input.to_str().unwrap(), "--points", &spec]);
+    csv.assert_success();
+    let text = csv.stdout_str();
+    let lines: Vec<&str> = text.lines().collect();
+    let header = csv_fields(lines[0]);
+    let row = csv_fields(lines[1]);
+    assert_eq!(header.len(), row.len(), "{text}");
+    let col = |n: &str| {
+        let i = header.iter().position(|h| h == n).unwrap_or_else(|| {
+            panic!("no column {n:?} in {header:?}");
+        });
+        row[i].clone()
+    };
+    assert_eq!(col("id"), BIG.to_string());
+    assert_eq!(col("label, \"quoted\""), "v0, \"x\"");
+    assert_eq!(col("cell:pressure"), format!("{}", 100 + tet));
+    assert!(header.contains(&"point:pressure".to_string()));
+
+    // The cell array of the pair can be drawn, and it is not the point one.
+    let mut images = Vec::new();
+    for scalar in ["pressure", "cell:pressure"] {
+        let png = dir.path().join(format!("{}.png", scalar.replace(':', "_")));
+        let run = tetkit([
+            "render",
+            input.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--size",
+            "48x48",
+            "--scalar",
+            scalar,
+            "-q",
+        ]);
+        run.assert_success();
+        images.push(image::open(&png).unwrap().to_rgba8().into_raw());
+    }
+    assert_ne!(images[0], images[1]);
+}
