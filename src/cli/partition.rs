@@ -117,6 +117,26 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
             result.report.degenerate
         );
     }
+    if let Stop::Leaves(asked) = opts.stop {
+        // The table says how many leaves came out, but a user who asked for more reads it as
+        // success; say why and what finds more.
+        if result.report.leaves < asked {
+            let why = match args.strategy {
+                StrategyArg::Paper => format!(
+                    "no plane within --phi {} and --eps {} splits any leaf further; --strategy cost, or a larger --phi or --eps, accepts more planes",
+                    args.phi, args.eps
+                ),
+                StrategyArg::Cost => format!(
+                    "no plane within --phi {} splits any leaf further; a larger --phi accepts more planes",
+                    args.phi
+                ),
+            };
+            eprintln!(
+                "tetkit: {name}: warning: {} of the {asked} leaves asked for: {why}",
+                result.report.leaves
+            );
+        }
+    }
     if let Some(a) = result.mesh.cell_data.get_mut(ORIGINAL_CELL_ID) {
         a.data = ArrayData::Int64(
             result
