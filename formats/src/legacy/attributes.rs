@@ -131,6 +131,8 @@ pub(crate) fn read_section(
     attrs: &mut Attributes,
     field: &mut Vec<DataArray>,
 ) -> Result<(), FormatError> {
+    // The array read last: a number where a keyword should be means it (or its header) is wrong.
+    let mut last: Option<String> = None;
     while let Some((p, t)) = cur.peek() {
         if is_kw(&t, "POINT_DATA") || is_kw(&t, "CELL_DATA") {
             return Ok(());
@@ -174,7 +176,7 @@ pub(crate) fn read_section(
                 if lut != "default" {
                     attrs.lookup_tables.push((name.clone(), lut));
                 }
-                add(attrs, array, Some(Attribute::Scalars));
+                add(attrs, &mut last, array, Some(Attribute::Scalars));
                 continue;
             }
             "COLOR_SCALARS" => {
@@ -200,7 +202,7 @@ pub(crate) fn read_section(
                 if let Some(names) = read_metadata(cur, comps)? {
                     array.component_names = names;
                 }
-                add(attrs, array, Some(Attribute::Scalars));
+                add(attrs, &mut last, array, Some(Attribute::Scalars));
                 continue;
             }
             "LOOKUP_TABLE" => {
@@ -255,35 +257,55 @@ pub(crate) fn read_section(
                     })?;
                 let ty = read_type(cur, &format!("TEXTURE_COORDINATES '{name}'"))?;
                 let array = read_array(cur, name, ty, dim, n)?;
-                add(attrs, array, Some(Attribute::TCoords));
+                add(attrs, &mut last, array, Some(Attribute::TCoords));
                 continue;
             }
             "FIELD" => {
                 for array in read_field(cur)? {
-                    add(attrs, array, None);
+                    add(attrs, &mut last, array, None);
                 }
                 continue;
             }
             _ => {
+                // A number, or in a binary file anything unknown: values past the array's end.
+                let data = cur.binary
+                    || std::str::from_utf8(&t).is_ok_and(|s| s.parse::<f64>().is_ok());
+                let hint = match (&last, data) {
+                    (Some(a), true) => format!(
+                        ": data where a keyword belongs, so array {a} holds more values than its header declares"
+                    ),
+                    _ => String::new(),
+                };
                 return Err(cur.err(
                     p,
                     format!(
-                        "unknown keyword '{}' in a POINT_DATA/CELL_DATA section",
+                        "unknown keyword '{}' in a POINT_DATA/CELL_DATA section{hint}",
                         show(&t)
                     ),
-                ))
+                ));
             }
         };
         let name = read_name(cur, &format!("the {kw} name"))?;
         let ty = read_type(cur, &format!("{kw} '{name}'"))?;
         let array = read_array(cur, name, ty, comps, n)?;
-        add(attrs, array, role);
+        add(attrs, &mut last, array, role);
     }
     Ok(())
 }
 
 /// Adds an array; the first array of each role becomes the active one, as in VTK.
-fn add(attrs: &mut Attributes, array: DataArray, role: Option<Attribute>) {
+fn add(
+    attrs: &mut Attributes,
+    last: &mut Option<String>,
+    array: DataArray,
+    role: Option<Attribute>,
+) {
+    *last = Some(format!(
+        "'{}' ({} tuples of {})",
+        array.name,
+        array.tuples(),
+        array.components
+    ));
     if let Some(role) = role {
         if !attrs.active.iter().any(|(r, _)| *r == role) {
             attrs.active.push((role, array.name.clone()));

@@ -30,7 +30,9 @@ impl LegacyType {
     pub fn parse(t: &[u8]) -> Option<LegacyType> {
         use ScalarType::*;
         let n = |s| LegacyType::Num(s);
-        let table: [(&str, LegacyType); 21] = [
+        // The fixed-size `vtktype*` names: VTK writes the 64-bit ones, meshio (and newer VTK
+        // readers) every one of them.
+        let table: [(&str, LegacyType); 27] = [
             ("bit", LegacyType::Bit),
             ("char", n(Int8)),
             ("signed_char", n(Int8)),
@@ -39,6 +41,10 @@ impl LegacyType {
             ("unsigned_short", n(UInt16)),
             ("int", n(Int32)),
             ("unsigned_int", n(UInt32)),
+            ("vtktypeint8", n(Int8)),
+            ("vtktypeuint8", n(UInt8)),
+            ("vtktypeint16", n(Int16)),
+            ("vtktypeuint16", n(UInt16)),
             ("vtktypeint32", n(Int32)),
             ("vtktypeuint32", n(UInt32)),
             // `long` is 8 bytes on the LP64 systems VTK runs on.
@@ -50,6 +56,8 @@ impl LegacyType {
             ("vtktypeuint64", n(UInt64)),
             ("float", n(Float32)),
             ("double", n(Float64)),
+            ("vtktypefloat32", n(Float32)),
+            ("vtktypefloat64", n(Float64)),
             ("vtkidtype", LegacyType::IdType),
             ("string", LegacyType::String),
             ("utf8_string", LegacyType::String),

@@ -183,7 +183,7 @@ fn read_node(bytes: &[u8], path: &Path, grid: &mut Grid) -> Result<Nodes> {
             attrs.push(r.real(&t, 4 + k, line, "an attribute")?);
         }
         if nmark == 1 {
-            let m = r.int(&t, 4 + nattr, line, "the boundary marker")?;
+            let m = r.marker(&t, 4 + nattr, line, "the boundary marker")?;
             marks.push(
                 i32::try_from(m).map_err(|_| {
                     r.err(line, format!("boundary marker {m} does not fit 32 bits"))
@@ -354,7 +354,7 @@ fn read_face(bytes: &[u8], path: &Path, nodes: Nodes, ele: Eles, grid: &mut Grid
             conn.push(node_ref(&r, &t, 1 + k, line, nodes)?);
         }
         let m = if nmark == 1 {
-            r.int(&t, 1 + corners, line, "the boundary marker")?
+            r.marker(&t, 1 + corners, line, "the boundary marker")?
         } else {
             0
         };

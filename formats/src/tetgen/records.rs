@@ -80,6 +80,28 @@ impl<'a> Records<'a> {
             .ok_or_else(|| self.err(line, format!("{what} is '{}', not an integer", show(t))))
     }
 
+    /// Field `k` of a record as a boundary marker: an integer, or a number with an integral
+    /// value (meshio writes markers as `0.0`, which TetGen reads as 0). A fractional marker is
+    /// refused: TetGen would truncate it, silently merging different values.
+    pub fn marker(
+        &self,
+        toks: &[&[u8]],
+        k: usize,
+        line: usize,
+        what: &str,
+    ) -> Result<i64, FormatError> {
+        if let Ok(v) = self.int(toks, k, line, what) {
+            return Ok(v);
+        }
+        let t = self.field(toks, k, line, what)?;
+        std::str::from_utf8(t)
+            .ok()
+            .and_then(|s| s.parse::<f64>().ok())
+            .filter(|v| v.fract() == 0.0 && v.abs() <= i64::MAX as f64)
+            .map(|v| v as i64)
+            .ok_or_else(|| self.err(line, format!("{what} is '{}', not an integer", show(t))))
+    }
+
     /// Field `k` of a record as a non-negative count.
     pub fn count(
         &self,
