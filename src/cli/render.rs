@@ -96,7 +96,7 @@ pub struct LookArgs {
     #[arg(long, value_name = "D")]
     pub unit_distance: Option<f64>,
     /// Transfer-function nodes (piecewise linear between them).
-    #[arg(long, default_value_t = 64, value_name = "K")]
+    #[arg(long, default_value_t = 64, value_name = "K", value_parser = parse_tf_nodes_arg)]
     pub tf_nodes: usize,
     /// Pre-integration table size SCALARxLENGTH.
     #[arg(long, default_value = "128x32", value_name = "SxL")]
@@ -127,6 +127,16 @@ fn parse_range(s: &str) -> Result<[f64; 2]> {
 
 fn parse_size_arg(s: &str) -> std::result::Result<(u32, u32), String> {
     parse_size(s).map_err(|e| e.to_string())
+}
+
+/// Every node costs memory in each transfer function's tables (24 GB for 1e9 nodes, which used
+/// to abort the process), and past a few thousand no 8-bit image changes.
+fn parse_tf_nodes_arg(s: &str) -> std::result::Result<usize, String> {
+    s.trim()
+        .parse::<usize>()
+        .ok()
+        .filter(|k| (2..=4096).contains(k))
+        .ok_or_else(|| format!("--tf-nodes '{s}': expected a count between 2 and 4096"))
 }
 
 fn parse_color_arg(s: &str) -> std::result::Result<[f32; 3], String> {
