@@ -1,6 +1,8 @@
-//! A mistyped `--tf-nodes` (an extra few zeros) made `render` and `tradeoff` try to allocate
-//! tens of gigabytes and abort ("memory allocation of 24000000000 bytes failed", a core dump).
-//! It is now refused on the command line with the range it takes, and nothing is written.
+//! Options whose size the user types, mistyped by a few zeros, made tetkit allocate until it
+//! aborted ("memory allocation of ... bytes failed", a core dump): `--tf-nodes 1000000000`
+//! (24 GB), `--table 4096x4096` (each side allowed, together 1 TiB), `partition --candidates
+//! 1000000000` (8 GB). Each is now refused up front with the range it takes, and nothing is
+//! written.
 
 mod common;
 
@@ -47,5 +49,50 @@ fn a_huge_tf_node_count_is_refused_up_front() {
             "-q",
         ])
         .assert_success();
+    }
+}
+
+#[test]
+fn a_huge_table_or_candidate_count_is_refused_up_front() {
+    let dir = tempdir();
+    let input = fixture("gmsh/lshape.vtk");
+    let png = dir.path().join("x.png");
+    let r = tetkit([
+        "render",
+        input.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--table",
+        "4096x4096",
+    ]);
+    r.assert_failure(&["--table", "4096x4096", "table entries, at most"]);
+    assert!(!png.exists());
+    tetkit([
+        "render",
+        input.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--table",
+        "512x128",
+        "--size",
+        "16x16",
+        "-q",
+    ])
+    .assert_success();
+
+    let (split, tree) = (dir.path().join("s.vtu"), dir.path().join("t.vtu"));
+    for n in ["1000000000", "0"] {
+        let r = tetkit([
+            "partition",
+            input.to_str().unwrap(),
+            "-o",
+            split.to_str().unwrap(),
+            "--tree",
+            tree.to_str().unwrap(),
+            "--candidates",
+            n,
+        ]);
+        r.assert_failure(&["--candidates", n, "between 1 and 4096"]);
+        assert!(!split.exists() && !tree.exists());
     }
 }

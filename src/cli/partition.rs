@@ -61,8 +61,13 @@ pub struct PartitionArgs {
 }
 
 pub fn run(args: &PartitionArgs) -> Result<()> {
-    if args.candidates == 0 {
-        bail!("--candidates must be at least 1");
+    // Candidate planes are stored per axis and per node: 1e9 aborted on an 8 GB allocation, and
+    // past a few thousand per axis no tet count changes.
+    if !(1..=4096).contains(&args.candidates) {
+        bail!(
+            "--candidates {}: expected a count between 1 and 4096",
+            args.candidates
+        );
     }
     if [args.phi, args.eps, args.balance_weight]
         .iter()

@@ -41,10 +41,17 @@ impl std::str::FromStr for TableSize {
                 .filter(|v| (2..=4096).contains(v))
                 .ok_or_else(|| format!("'{s}': '{t}' is not a size between 2 and 4096"))
         };
-        Ok(TableSize {
-            scalar: p(a)?,
-            length: p(b)?,
-        })
+        let (scalar, length) = (p(a)?, p(b)?);
+        // The table holds scalar x scalar x length RGBA entries: 4096x4096 passed the checks
+        // above and then aborted on a 1 TiB allocation. 2^25 entries is 512 MiB.
+        const MAX_ENTRIES: usize = 1 << 25;
+        let entries = scalar * scalar * length;
+        if entries > MAX_ENTRIES {
+            return Err(format!(
+                "'{s}': {scalar} x {scalar} x {length} = {entries} table entries, at most {MAX_ENTRIES} (e.g. 1024x32 or 512x128)"
+            ));
+        }
+        Ok(TableSize { scalar, length })
     }
 }
 
