@@ -56,6 +56,12 @@ impl From<std::io::Error> for WriteError {
     }
 }
 
+impl From<crate::atomic::TargetError> for WriteError {
+    fn from(e: crate::atomic::TargetError) -> WriteError {
+        WriteError(FormatError::io(&e.path, e.source))
+    }
+}
+
 /// Which cells and arrays go where.
 struct Plan<'g> {
     tets: Vec<usize>,

@@ -208,3 +208,9 @@ impl From<std::io::Error> for WriteError {
         WriteError(FormatError::whole(e.to_string()))
     }
 }
+
+impl From<crate::atomic::TargetError> for WriteError {
+    fn from(e: crate::atomic::TargetError) -> WriteError {
+        WriteError(FormatError::io(&e.path, e.source))
+    }
+}

@@ -1,0 +1,71 @@
+//! Several files written as one (TetGen's `.node` + `.ele` + `.face`, partition's split mesh and
+//! tree): a folder in the way of one of them (`x.ele/` left from unpacking an archive) made
+//! the write fail only after the files before it were in place, so `x.node` stayed behind,
+//! replacing the user's previous one, and the error named `x.ele` when `x.face` was the folder.
+//! Now nothing is placed, what was there stays, and the error names the file in the way.
+
+mod common;
+
+use common::{dir_listing, fixture, tempdir, tetkit};
+
+#[test]
+fn a_folder_in_the_way_places_nothing_and_is_named() {
+    let dir = tempdir();
+    let d = dir.path();
+    // `.ele` itself is a folder: no `.node` may appear.
+    std::fs::create_dir(d.join("k.ele")).unwrap();
+    let r = tetkit([
+        "convert".as_ref(),
+        fixture("tetgen/sphere.1.ele").as_os_str(),
+        d.join("k.ele").as_os_str(),
+    ]);
+    r.assert_failure(&["k.ele", "folder"]);
+    assert!(!d.join("k.node").exists());
+
+    // `.face` is the folder: the `.node` already there is kept as it was.
+    std::fs::create_dir(d.join("m.face")).unwrap();
+    std::fs::write(d.join("m.node"), "previous").unwrap();
+    let r = tetkit([
+        "convert".as_ref(),
+        fixture("tetgen/torus.1.ele").as_os_str(),
+        d.join("m.ele").as_os_str(),
+    ]);
+    r.assert_failure(&["m.face", "folder"]);
+    assert!(!r.stderr.contains("m.ele"), "{}", r.stderr);
+    assert_eq!(
+        std::fs::read_to_string(d.join("m.node")).unwrap(),
+        "previous"
+    );
+    assert!(!d.join("m.ele").exists());
+
+    // Partition: the tree's name is a folder; the split mesh does not appear.
+    std::fs::create_dir(d.join("tree.vtu")).unwrap();
+    let r = tetkit([
+        "partition".as_ref(),
+        fixture("gmsh/lshape.vtk").as_os_str(),
+        "-o".as_ref(),
+        d.join("split.vtu").as_os_str(),
+        "--tree".as_ref(),
+        d.join("tree.vtu").as_os_str(),
+    ]);
+    r.assert_failure(&["tree.vtu", "folder"]);
+    assert!(!d.join("split.vtu").exists());
+
+    // Replacing earlier outputs still works and leaves no temporary or set-aside files.
+    for _ in 0..2 {
+        tetkit([
+            "convert".as_ref(),
+            fixture("tetgen/torus.1.ele").as_os_str(),
+            d.join("n.ele").as_os_str(),
+        ])
+        .assert_success();
+    }
+    let hidden: Vec<String> = dir_listing(d)
+        .into_iter()
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(hidden.is_empty(), "{hidden:?}");
+    for ext in ["node", "ele", "face"] {
+        assert!(d.join(format!("n.{ext}")).is_file(), "{ext}");
+    }
+}
