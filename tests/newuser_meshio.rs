@@ -1,8 +1,10 @@
 //! Files as meshio (the Python mesh converter many FEM users go through) writes them, made here
 //! by hand in its exact layout: legacy VTK FIELD arrays typed `vtktypeuint8`, `vtktypeint32`...
 //! (refused as "unknown data type"), TetGen markers written `0.0` (refused as "not an
-//! integer"), and meshio's 3x3 cell tensors declared with 3 components but holding 9 (the error
-//! named only a stray number, not the array at fault).
+//! integer"), and meshio's 3x3 cell tensors: in legacy files declared with 3 components but
+//! holding 9 (the error named only a stray number, not the array at fault), in VTU written with
+//! no `NumberOfComponents` at all (refused, so the whole mesh could not be read; VTK keeps a
+//! ninth of the values): the 9 components are now kept.
 
 mod common;
 
@@ -108,4 +110,62 @@ fn an_array_holding_more_values_than_declared_is_named() {
     std::fs::write(&input, &bin).unwrap();
     let r = tetkit(["info".as_ref(), input.as_os_str()]);
     r.assert_failure(&["tensor_bin.vtk", "byte", "'sig'", "more values than"]);
+}
+
+fn vtu_with_cell_array(array: &str) -> String {
+    format!(
+        r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+<UnstructuredGrid><Piece NumberOfPoints="5" NumberOfCells="2">
+<Points><DataArray type="Float64" Name="Points" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1 1 1 1</DataArray></Points>
+<Cells><DataArray type="Int32" Name="connectivity" format="ascii">0 1 2 3 1 2 3 4</DataArray>
+<DataArray type="Int32" Name="offsets" format="ascii">4 8</DataArray>
+<DataArray type="Int64" Name="types" format="ascii">10 10</DataArray></Cells>
+<CellData>{array}</CellData>
+</Piece></UnstructuredGrid></VTKFile>
+"#
+    )
+}
+
+#[test]
+fn a_vtu_tensor_without_a_component_count_keeps_its_nine_components() {
+    let dir = tempdir();
+    let values: Vec<f64> = (0..18).map(|k| k as f64 * 0.5).collect();
+    let text: Vec<String> = values.iter().map(|v| v.to_string()).collect();
+    let ascii = format!(
+        r#"<DataArray type="Float64" Name="sig" format="ascii">{}</DataArray>"#,
+        text.join(" ")
+    );
+    // meshio's binary form: a UInt32 byte count, then the values, base64 together.
+    let mut raw = ((values.len() * 8) as u32).to_le_bytes().to_vec();
+    for v in &values {
+        raw.extend_from_slice(&v.to_le_bytes());
+    }
+    use base64::Engine;
+    let binary = format!(
+        r#"<DataArray type="Float64" Name="sig" format="binary">{}</DataArray>"#,
+        base64::engine::general_purpose::STANDARD.encode(&raw)
+    );
+    for (name, array) in [("ascii", ascii), ("binary", binary)] {
+        let input = dir.path().join(format!("{name}.vtu"));
+        std::fs::write(&input, vtu_with_cell_array(&array)).unwrap();
+        let out = dir.path().join(format!("{name}_out.vtu"));
+        tetkit(["convert".as_ref(), input.as_os_str(), out.as_os_str()]).assert_success();
+        let g = formats::read(&out).unwrap();
+        let a = g.cell_data.get("sig").unwrap();
+        assert_eq!(a.components, 9, "{name}");
+        assert_eq!(a.data, ArrayData::Float64(values.clone()), "{name}");
+    }
+    // 17 values for 2 cells fit no component count: refused, naming the array.
+    let input = dir.path().join("odd.vtu");
+    std::fs::write(
+        &input,
+        vtu_with_cell_array(&format!(
+            r#"<DataArray type="Float64" Name="sig" format="ascii">{}</DataArray>"#,
+            text[..17].join(" ")
+        )),
+    )
+    .unwrap();
+    let r = tetkit(["info".as_ref(), input.as_os_str()]);
+    r.assert_failure(&["odd.vtu", "byte", "'sig'", "17 values"]);
 }

@@ -164,11 +164,43 @@ fn array(inp: &Input, a: &ArrayXml, need: Option<usize>) -> Result<DataArray> {
     })
 }
 
+/// A numeric array written without `NumberOfComponents` whose values are a whole multiple of
+/// the tuples: meshio writes an (n, 3, 3) tensor so, 9 n values under a 1-component header.
+/// VTK keeps the first n values and drops the rest; the data says how many components there
+/// are, so they are kept whole.
+fn implicit_components(inp: &Input, a: &ArrayXml, tuples: usize) -> Result<DataArray> {
+    let mut d = array(inp, a, None)?;
+    let n = d.data.len();
+    if n == tuples {
+        return Ok(d);
+    }
+    if n < tuples || n % tuples != 0 {
+        return Err(FormatError::at_byte(
+            a.tag_pos,
+            format!(
+                "array '{}': has {n} values, expected {tuples} (one per tuple; no NumberOfComponents is given, and {n} is not a whole multiple of {tuples})",
+                a.name
+            ),
+        ));
+    }
+    d.components = n / tuples;
+    if !d.component_names.is_empty() {
+        d.component_names.resize(d.components, String::new());
+    }
+    Ok(d)
+}
+
 fn attributes(inp: &Input, x: &AttributesXml, tuples: usize) -> Result<Attributes> {
     let arrays = x
         .arrays
         .par_iter()
-        .map(|a| array(inp, a, Some(values(a, tuples)?)))
+        .map(|a| {
+            if a.components_given || tuples == 0 || !matches!(a.ty, ElemType::Num(_)) {
+                array(inp, a, Some(values(a, tuples)?))
+            } else {
+                implicit_components(inp, a, tuples)
+            }
+        })
         .collect::<Result<Vec<_>>>()?;
     Ok(Attributes {
         arrays,

@@ -31,6 +31,8 @@ pub(crate) struct ArrayXml {
     pub name: String,
     pub ty: ElemType,
     pub components: usize,
+    /// Whether `NumberOfComponents` was written (meshio leaves it out of 3x3 tensors).
+    pub components_given: bool,
     pub component_names: Vec<String>,
     pub tuples: Option<usize>,
     pub format: DataFormat,
@@ -249,6 +251,7 @@ fn array_from(a: &[(String, String)], pos: u64) -> Result<ArrayXml> {
         name,
         ty,
         components,
+        components_given: get(a, "NumberOfComponents").is_some(),
         component_names,
         tuples,
         format,
