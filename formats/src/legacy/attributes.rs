@@ -268,8 +268,8 @@ pub(crate) fn read_section(
             }
             _ => {
                 // A number, or in a binary file anything unknown: values past the array's end.
-                let data = cur.binary
-                    || std::str::from_utf8(&t).is_ok_and(|s| s.parse::<f64>().is_ok());
+                let data =
+                    cur.binary || std::str::from_utf8(&t).is_ok_and(|s| s.parse::<f64>().is_ok());
                 let hint = match (&last, data) {
                     (Some(a), true) => format!(
                         ": data where a keyword belongs, so array {a} holds more values than its header declares"
