@@ -94,6 +94,7 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         }
         grid = tets;
         if format == Format::TetGen {
+            grid = split_quadratic_triangles(&grid);
             // TetGen files hold tets and boundary triangles (.face): other lower cells go.
             let keep: Vec<usize> = (0..grid.num_cells())
                 .filter(|&i| {
@@ -185,4 +186,34 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
     }
     formats::write(&args.output, &grid, &opts)?;
     Ok(())
+}
+
+/// Quadratic triangles (TetGen's `-o2` `.face`, Gmsh's second-order boundary) as 4 linear ones
+/// each, corner to mid-edge nodes: exactly the faces the 8 linear tets of their quadratic tets
+/// show there, so the boundary and its markers survive `--tetrahedralize` to TetGen instead of
+/// being dropped. Cell data is copied to each piece.
+fn split_quadratic_triangles(grid: &formats::Grid) -> formats::Grid {
+    use formats::cell_type::{QUADRATIC_TRIANGLE, TRIANGLE};
+    if !grid.cells.types.contains(&QUADRATIC_TRIANGLE) {
+        return grid.clone();
+    }
+    let mut cells = formats::Cells::new();
+    let mut parent = Vec::with_capacity(grid.num_cells());
+    for i in 0..grid.num_cells() {
+        let c = grid.cells.cell(i);
+        if grid.cells.types[i] == QUADRATIC_TRIANGLE && c.len() == 6 {
+            // VTK order: corners 0 1 2, then mid-edges 01, 12, 20.
+            for t in [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]] {
+                cells.push(TRIANGLE, &t.map(|k| c[k]));
+                parent.push(i);
+            }
+        } else {
+            cells.push(grid.cells.types[i], c);
+            parent.push(i);
+        }
+    }
+    let mut out = grid.clone();
+    out.cells = cells;
+    out.cell_data = grid.cell_data.gather(&parent);
+    out
 }
