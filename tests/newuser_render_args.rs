@@ -2,7 +2,8 @@
 //! aborted ("memory allocation of ... bytes failed", a core dump): `--tf-nodes 1000000000`
 //! (24 GB), `--table 4096x4096` (each side allowed, together 1 TiB), `partition --candidates
 //! 1000000000` (8 GB). Each is now refused up front with the range it takes, and nothing is
-//! written.
+//! written. `check-order --rays` above 8192^2 was cut down to that without a word; it is refused
+//! too.
 
 mod common;
 
@@ -95,4 +96,29 @@ fn a_huge_table_or_candidate_count_is_refused_up_front() {
         r.assert_failure(&["--candidates", n, "between 1 and 4096"]);
         assert!(!split.exists() && !tree.exists());
     }
+}
+
+#[test]
+fn too_many_rays_are_refused_not_silently_cut() {
+    let input = fixture("gmsh/lshape.vtk");
+    for n in ["1000000000000", "0"] {
+        tetkit([
+            "check-order",
+            input.to_str().unwrap(),
+            "--method",
+            "kd",
+            "--rays",
+            n,
+        ])
+        .assert_failure(&["--rays", n, "between 1 and 67108864"]);
+    }
+    tetkit([
+        "check-order",
+        input.to_str().unwrap(),
+        "--method",
+        "kd",
+        "--rays",
+        "100",
+    ])
+    .assert_success();
 }

@@ -17,7 +17,7 @@ pub struct CheckOrderArgs {
     #[command(flatten)]
     pub camera: CameraArgs,
     /// Number of rays, cast through the pixel centres of a square image of about this many pixels.
-    #[arg(long, default_value_t = 65536)]
+    #[arg(long, default_value_t = 65536, value_parser = parse_rays)]
     pub rays: u64,
     /// Sort with this method and check the result (default when the file has no visibility_order: kd).
     #[arg(long, value_enum)]
@@ -31,6 +31,16 @@ pub struct CheckOrderArgs {
     /// Exit non-zero when any violation is found.
     #[arg(long)]
     pub fail_on_violation: bool,
+}
+
+/// The rays' image side is at most 8192: a larger request was cut down without a word (and
+/// 8192^2 rays already take gigabytes), so say so instead.
+fn parse_rays(s: &str) -> Result<u64, String> {
+    s.trim()
+        .parse::<u64>()
+        .ok()
+        .filter(|n| (1..=8192 * 8192).contains(n))
+        .ok_or_else(|| format!("--rays '{s}': expected a count between 1 and 67108864 (8192^2)"))
 }
 
 pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
