@@ -90,6 +90,20 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
             )
             .with_file(path));
         }
+        // A piece is read as a .vtu; one naming a .pvtu (itself, or another collection) would
+        // fail with "this is a parallel file: name it .pvtu", which blames the wrong file.
+        if p.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("pvtu"))
+        {
+            return Err(FormatError::new(
+                crate::Place::Other(format!("piece {i}")),
+                format!(
+                    "piece file '{}' is a .pvtu itself; pieces must be .vtu files",
+                    p.display()
+                ),
+            )
+            .with_file(path));
+        }
         grids.push(super::read_path(&p)?);
     }
     let field = grids
