@@ -279,7 +279,7 @@ fn body(
                 return Err(at(
                     v.span().start,
                     format!(
-                        "{who}: {key} = {x} must be {}",
+                        "{who}: {key} = {x} must be {} and finite",
                         if zero_ok { "non-negative" } else { "positive" }
                     ),
                 ));
