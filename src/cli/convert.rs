@@ -94,7 +94,18 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         }
         grid = tets;
         if format == Format::TetGen {
-            grid = split_quadratic_triangles(&grid);
+            let quadratic = grid
+                .cells
+                .types
+                .iter()
+                .filter(|&&t| t == formats::cell_type::QUADRATIC_TRIANGLE)
+                .count();
+            if quadratic > 0 {
+                grid = split_quadratic_triangles(&grid);
+                eprintln!(
+                    "tetkit: split {quadratic} quadratic triangles into 4 triangles each for the .face file"
+                );
+            }
             // TetGen files hold tets and boundary triangles (.face): other lower cells go.
             let keep: Vec<usize> = (0..grid.num_cells())
                 .filter(|&i| {
@@ -194,9 +205,6 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
 /// being dropped. Cell data is copied to each piece.
 fn split_quadratic_triangles(grid: &formats::Grid) -> formats::Grid {
     use formats::cell_type::{QUADRATIC_TRIANGLE, TRIANGLE};
-    if !grid.cells.types.contains(&QUADRATIC_TRIANGLE) {
-        return grid.clone();
-    }
     let mut cells = formats::Cells::new();
     let mut parent = Vec::with_capacity(grid.num_cells());
     for i in 0..grid.num_cells() {
