@@ -128,8 +128,28 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
     }
     let wopts = WriteOptions::default();
     let tree_grid = output::tree_grid(&result.tree);
-    formats::write(&args.tree, &tree_grid, &wopts)?;
-    formats::write(&args.output, &result.mesh.to_grid(), &wopts)?;
+    let split_grid = result.mesh.to_grid();
+    // Both files or neither: a failed second write must not leave the first behind.
+    let targets = [args.tree.clone(), args.output.clone()];
+    let grids = [&tree_grid, &split_grid];
+    formats::atomic::write_all_or_none(&targets, |i, w| -> anyhow::Result<()> {
+        grids[i].validate().map_err(|m| {
+            anyhow::anyhow!(
+                "{}: refusing to write an invalid mesh: {m}",
+                targets[i].display()
+            )
+        })?;
+        formats::write_to(w, formats::Format::Vtu, grids[i], &wopts)
+            .map_err(|e| e.with_file(&targets[i]))?;
+        Ok(())
+    })
+    .with_context(|| {
+        format!(
+            "writing {} and {}",
+            args.output.display(),
+            args.tree.display()
+        )
+    })?;
     if let Some(dir) = &args.pieces {
         let stem = args
             .output
@@ -137,7 +157,16 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "split".into());
         let pieces = output::leaf_pieces(&result.mesh, &result.tree);
-        let (pvtu, vtm) = output::write_pieces(dir, &stem, &pieces, &wopts)?;
+        let (pvtu, vtm) = match output::write_pieces(dir, &stem, &pieces, &wopts) {
+            Ok(p) => p,
+            Err(e) => {
+                // All outputs or none: take back the two files just written.
+                for t in &targets {
+                    let _ = std::fs::remove_file(t);
+                }
+                return Err(e);
+            }
+        };
         if !args.json {
             eprintln!(
                 "tetkit: wrote {} leaf pieces, named by {} and {}",
