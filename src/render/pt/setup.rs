@@ -210,7 +210,7 @@ impl Prepared {
             (nf + (nb > 1) as usize) & 3,
             (nf + 2 * (nb > 2) as usize) & 3,
         );
-        TetSetup {
+        let mut su = TetSetup {
             poly: self.poly,
             nedges: self.nedges as u32,
             x0: x0 as i32,
@@ -219,14 +219,22 @@ impl Prepared {
             y1: y1 as i32,
             ox: self.ox,
             oy: self.oy,
-            front: [pl[0], pl[f1], pl[f2]],
-            back: [pl[nf & 3], pl[b1], pl[b2]],
+            front: [[0.0; 3]; 3],
+            back: [[0.0; 3]; 3],
             w0: self.w0,
             sref: self.sref,
             h: self.h,
             smin: self.smin,
             smax: self.smax,
-        }
+        };
+        // Slot by slot: an array expression here was still built on the stack and copied wide.
+        su.front[0] = pl[0];
+        su.front[1] = pl[f1];
+        su.front[2] = pl[f2];
+        su.back[0] = pl[nf & 3];
+        su.back[1] = pl[b1];
+        su.back[2] = pl[b2];
+        su
     }
 }
 
