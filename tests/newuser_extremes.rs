@@ -44,11 +44,8 @@ fn far_off_and_huge_meshes_get_the_default_camera() {
                 method.as_ref(),
             ])
             .assert_success();
-            // The ray caster is exact at any scale; PT still loses its f32 depths at 1e30 (known,
-            // reported), so only the ray caster's image is required to show the mesh.
-            if method == "raycast" {
-                assert!(lit(&png) > 100, "{name}: {} lit pixels", lit(&png));
-            }
+            // Both at any scale: PT's perspective depths used to overflow f32 at 1e30.
+            assert!(lit(&png) > 100, "{name} {method}: {} lit pixels", lit(&png));
         }
         let sorted = dir.path().join(format!("{name}_sorted.vtu"));
         tetkit([
@@ -115,5 +112,75 @@ fn tiny_meshes_are_drawn_by_projected_tetrahedra() {
             lit_by[0].abs_diff(lit_by[1]) <= 10,
             "{size}: PT vs ray caster {lit_by:?}"
         );
+    }
+}
+
+/// RGB bytes of a PNG.
+fn pixels(png: &Path) -> Vec<u8> {
+    image::open(png).unwrap().to_rgb8().into_raw()
+}
+
+#[test]
+fn projected_tetrahedra_draw_meshes_of_any_size_alike() {
+    // PT carried perspective depth to f32 as 1/z: the products of the per-pixel depth formula
+    // overflowed for a mesh 1e-20 across and underflowed at 1e25, so both came out blank. Each
+    // size must now give the unit mesh's image, perspective and parallel, every integration.
+    let dir = tempdir();
+    let render = |input: &Path, png: &Path, extra: &[&str]| {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "render".as_ref(),
+            input.as_os_str(),
+            "-o".as_ref(),
+            png.as_os_str(),
+        ];
+        for a in [
+            "--size",
+            "48x48",
+            "-q",
+            "--scalar",
+            "coord:z",
+            "--elevation",
+            "25",
+        ]
+        .iter()
+        .chain(extra)
+        {
+            args.push(a.as_ref());
+        }
+        tetkit(args).assert_success();
+    };
+    let grid = |name: &str, size: f64| {
+        let mesh = structured_grid([4, 3, 2], [0.0; 3], [size; 3]);
+        let input = dir.path().join(format!("{name}.vtu"));
+        tetkit::formats::write(&input, &mesh.to_grid(), &Default::default()).unwrap();
+        input
+    };
+    let unit = grid("unit", 1.0);
+    for extra in [
+        &["--integration", "preintegrated"][..],
+        &["--integration", "linear"],
+        &["--integration", "average", "--parallel"],
+    ] {
+        let want_png = dir.path().join("unit.png");
+        render(&unit, &want_png, extra);
+        let want = pixels(&want_png);
+        assert!(lit(&want_png) > 500, "{extra:?}: {} lit", lit(&want_png));
+        for size in [1e-30, 1e-20, 1e-12, 1e12, 1e25, 1e30] {
+            let input = grid("sized", size);
+            let png = dir.path().join("sized.png");
+            render(&input, &png, extra);
+            let got = pixels(&png);
+            // Coordinates scaled by a non-power of two round differently: a step of 2/255
+            // at most, on few pixels.
+            let off = want
+                .iter()
+                .zip(&got)
+                .filter(|(a, b)| a.abs_diff(**b) > 2)
+                .count();
+            assert_eq!(
+                off, 0,
+                "size {size} {extra:?}: {off} channels differ from the unit mesh"
+            );
+        }
     }
 }
