@@ -184,3 +184,79 @@ fn projected_tetrahedra_draw_meshes_of_any_size_alike() {
         }
     }
 }
+
+#[test]
+fn scenes_draw_alike_at_any_scale() {
+    // Body crossings are compared with PT's fragment depths, which are in the rasterizer's
+    // depth unit: a scene scaled by 1e-20 (or 1e20) must give the unit scene's image.
+    let dir = tempdir();
+    let mut want: Option<Vec<u8>> = None;
+    for size in [1.0, 1e-20, 1e20] {
+        let mesh = structured_grid([5, 5, 5], [0.0; 3], [size; 3]);
+        let input = dir.path().join("mesh.vtu");
+        tetkit::formats::write(&input, &mesh.to_grid(), &Default::default()).unwrap();
+        let v = |x: f64| format!("{:e}", x * size);
+        let toml = format!(
+            "[camera]\nposition = [{}, {}, {}]\nfocal = [{}, {}, {}]\n\
+             [transfer]\nopacity = [[0.0, 0.1], [{}, 0.5]]\nunit_distance = {}\n\
+             [[body]]\nshape = \"box\"\nmin = [{}, {}, {}]\nmax = [{}, {}, {}]\naction = \"cut\"\n\
+             [[body]]\nshape = \"sphere\"\ncenter = [{}, {}, {}]\nradius = {}\naction = \"transfer\"\n\
+             [body.transfer]\nopacity = [[0.0, 0.9], [{}, 0.9]]\ncolormap = \"reds\"\n",
+            v(2.2),
+            v(1.7),
+            v(2.9),
+            v(0.5),
+            v(0.5),
+            v(0.5),
+            // The scalar is x, so its opacity points scale too.
+            v(1.0),
+            v(0.3),
+            v(0.5),
+            v(0.5),
+            v(0.5),
+            v(1.1),
+            v(1.1),
+            v(1.1),
+            v(0.3),
+            v(0.4),
+            v(0.4),
+            v(0.2),
+            v(1.0),
+        );
+        let scene = dir.path().join("scene.toml");
+        std::fs::write(&scene, toml).unwrap();
+        let png = dir.path().join("scene.png");
+        tetkit([
+            "render".as_ref(),
+            input.as_os_str(),
+            "--scene".as_ref(),
+            scene.as_os_str(),
+            "-o".as_ref(),
+            png.as_os_str(),
+            "--size".as_ref(),
+            "48x48".as_ref(),
+            "--scalar".as_ref(),
+            "coord:x".as_ref(),
+            "-q".as_ref(),
+        ])
+        .assert_success();
+        let got = pixels(&png);
+        match &want {
+            None => {
+                assert!(lit(&png) > 500, "{} lit", lit(&png));
+                want = Some(got);
+            }
+            Some(w) => {
+                let off = w
+                    .iter()
+                    .zip(&got)
+                    .filter(|(a, b)| a.abs_diff(**b) > 2)
+                    .count();
+                assert_eq!(
+                    off, 0,
+                    "size {size}: {off} channels differ from the unit scene"
+                );
+            }
+        }
+    }
+}
