@@ -246,6 +246,7 @@ pub struct Session {
     pub tf: TransferFunction,
     /// What `tf` was built from, for bodies' transfer functions to inherit.
     pub base: BaseLook,
+    /// Length axis of the pre-integration tables ([`prepare::table_length`]).
     pub lmax: f64,
     /// Subtracted from `field` and from every transfer function's scalars
     /// ([`crate::render::field::scalar_offset`]); 0 for most fields.
@@ -352,7 +353,7 @@ impl Session {
             unit_distance: unit,
             nodes: look.tf_nodes,
         };
-        let lmax = prepare::longest_edge(&mesh);
+        let lmax = prepare::table_length(&mesh, &tf, look.table.length);
         Ok(Session {
             mesh,
             field_name,
@@ -567,7 +568,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 let (img, st) = match &table {
                     None => rc.render(&session.tf, &cam, w, h),
                     Some(tab) => rc.render_with(
-                        &|a, b, l| tab.lookup(a as f32, b as f32, l as f32).map(f64::from),
+                        &|a, b, l| tab.segment(a as f32, b as f32, l as f32).map(f64::from),
                         &cam,
                         w,
                         h,
