@@ -120,6 +120,12 @@ fn pixels(png: &Path) -> Vec<u8> {
     image::open(png).unwrap().to_rgb8().into_raw()
 }
 
+/// Channels of two images more than 2/255 apart.
+fn channels_off(a: &[u8], b: &[u8]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).filter(|(x, y)| x.abs_diff(**y) > 2).count()
+}
+
 #[test]
 fn projected_tetrahedra_draw_meshes_of_any_size_alike() {
     // PT carried perspective depth to f32 as 1/z: the products of the per-pixel depth formula
@@ -172,11 +178,7 @@ fn projected_tetrahedra_draw_meshes_of_any_size_alike() {
             let got = pixels(&png);
             // Coordinates scaled by a non-power of two round differently: a step of 2/255
             // at most, on few pixels.
-            let off = want
-                .iter()
-                .zip(&got)
-                .filter(|(a, b)| a.abs_diff(**b) > 2)
-                .count();
+            let off = channels_off(&want, &got);
             assert_eq!(
                 off, 0,
                 "size {size} {extra:?}: {off} channels differ from the unit mesh"
@@ -247,11 +249,7 @@ fn scenes_draw_alike_at_any_scale() {
                 want = Some(got);
             }
             Some(w) => {
-                let off = w
-                    .iter()
-                    .zip(&got)
-                    .filter(|(a, b)| a.abs_diff(**b) > 2)
-                    .count();
+                let off = channels_off(w, &got);
                 assert_eq!(
                     off, 0,
                     "size {size}: {off} channels differ from the unit scene"

@@ -48,21 +48,24 @@ impl std::str::FromStr for TableSize {
     }
 }
 
+/// Longest edge of tet `t`: no chord through it is longer.
+fn tet_longest_edge(mesh: &TetMesh, t: &[u32; 4]) -> f64 {
+    let p = t.map(|v| mesh.points[v as usize]);
+    let mut m = 0.0f64;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
+            m = m.max(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        }
+    }
+    m.sqrt()
+}
+
 /// Longest tet edge: no chord through a tet is longer, so it bounds the table's length axis.
 pub fn longest_edge(mesh: &TetMesh) -> f64 {
     mesh.tets
         .par_iter()
-        .map(|t| {
-            let p = t.map(|v| mesh.points[v as usize]);
-            let mut m = 0.0f64;
-            for i in 0..4 {
-                for j in i + 1..4 {
-                    let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
-                    m = m.max(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                }
-            }
-            m.sqrt()
-        })
+        .map(|t| tet_longest_edge(mesh, t))
         .reduce(|| 0.0, f64::max)
 }
 
@@ -85,17 +88,7 @@ pub fn table_length(mesh: &TetMesh, tf: &TransferFunction, steps: usize) -> f64 
     let mut edges: Vec<f64> = mesh
         .tets
         .par_iter()
-        .map(|t| {
-            let p = t.map(|v| mesh.points[v as usize]);
-            let mut m = 0.0f64;
-            for i in 0..4 {
-                for j in i + 1..4 {
-                    let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
-                    m = m.max(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                }
-            }
-            m.sqrt()
-        })
+        .map(|t| tet_longest_edge(mesh, t))
         .filter(|m| m.is_finite())
         .collect();
     let Some(&max) = edges.iter().max_by(|a, b| a.total_cmp(b)) else {
