@@ -367,9 +367,15 @@ impl Session {
         })
     }
 
-    /// The ray caster's face adjacency, which the caster borrows (so the caller keeps it).
+    /// The ray caster's face adjacency, which the caster borrows (so the caller keeps it); with
+    /// coincident points welded ([`TetMesh::welded_tets`]), so the walk crosses the doubled
+    /// faces of an unwelded mesh instead of re-entering through the grid at each (5x slower on
+    /// a per-element mesh of 8,640 tets, same image).
     pub fn topology(&self) -> Topology {
-        Topology::build(&self.mesh.tets)
+        match self.mesh.welded_tets() {
+            Some(tets) => Topology::build(&tets),
+            None => Topology::build(&self.mesh.tets),
+        }
     }
 
     /// The ray caster (entry and locator grids) over this session's mesh and field.
