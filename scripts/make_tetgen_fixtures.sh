@@ -5,6 +5,9 @@
 #   torus.1.{node,ele,face}         non-convex torus (R=1, r=0.4), 0-based (-z)
 #   quadratic.1.{node,ele,face}     two stacked unit cubes, 10-node tets (-o2)
 #   regions.1.{node,ele,face}       the same two cubes as two regions, region attributes (-A)
+#   cloud.1.{node,ele,face}         Delaunay tetrahedralization of 400 seeded random points with a
+#                                   random attribute, no quality switch: slivers and long hull
+#                                   tets (the pre-integration table's hard case, tests/render.rs)
 # tetgen's own summary of each run goes to fixtures/tetgen/*.log, which the tests compare with.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,4 +29,17 @@ run sphere -pq1.4a0.05n
 run torus -pq1.2a0.02z
 run quadratic -pqo2
 run regions -pq1.4a0.05A
+/usr/bin/python3 - "$tmp/cloud.node" <<'PY'
+import random, sys
+random.seed(11)
+with open(sys.argv[1], "w") as f:
+    f.write("# 400 random points in the unit cube, one attribute (scripts/make_tetgen_fixtures.sh)\n")
+    f.write("400 3 1 0\n")
+    for i in range(400):
+        f.write("%d %.6f %.6f %.6f %.6f\n" % ((i + 1,) + tuple(random.random() for _ in range(4))))
+PY
+(cd "$tmp" && tetgen cloud.node >cloud.log)
+rm -f "$tmp/cloud.1.edge"
+for f in "$tmp"/cloud.1.* ; do cp "$f" "$out/"; done
+grep -E '^ +Mesh (points|tetrahedra):' "$tmp/cloud.log" >"$out/cloud.log"
 ls -l "$out"

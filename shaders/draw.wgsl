@@ -95,8 +95,28 @@ fn linear(sf: f32, sb: f32, l: f32, k: u32) -> vec4<f32> {
     return vec4<f32>(a.xyz - b.xyz * trans + (b.xyz - a.xyz) * i, 1.0 - trans);
 }
 
-// Trilinear lookup with the CPU table's index arithmetic (PreintTable::lookup).
+// A fragment of any length (PreintTable::segment): past the table's length axis, the
+// front-to-back composite of equal pieces within it.
 fn preintegrated(sf: f32, sb: f32, l: f32, k: u32) -> vec4<f32> {
+    let top = f32(sh.mode.z - 1u);
+    let x = l * luts[k].z;
+    if (!(x > top)) {
+        return table_lookup(sf, sb, l, k);
+    }
+    let n = min(ceil(x / top), 65536.0);
+    let dl = l / n;
+    let ds = (sb - sf) / n;
+    var acc = vec4<f32>(0.0);
+    for (var i = 0u; i < u32(n); i++) {
+        let a = sf + ds * f32(i);
+        let c = table_lookup(a, a + ds, dl, k);
+        acc += (1.0 - acc.w) * c;
+    }
+    return acc;
+}
+
+// Trilinear lookup with the CPU table's index arithmetic (PreintTable::lookup).
+fn table_lookup(sf: f32, sb: f32, l: f32, k: u32) -> vec4<f32> {
     let lut = luts[k];
     let ns = sh.mode.y;
     let nl = sh.mode.z;

@@ -44,11 +44,8 @@ fn far_off_and_huge_meshes_get_the_default_camera() {
                 method.as_ref(),
             ])
             .assert_success();
-            // The ray caster is exact at any scale; PT still loses its f32 depths at 1e30 (known,
-            // reported), so only the ray caster's image is required to show the mesh.
-            if method == "raycast" {
-                assert!(lit(&png) > 100, "{name}: {} lit pixels", lit(&png));
-            }
+            // Both at any scale: PT's perspective depths used to overflow f32 at 1e30.
+            assert!(lit(&png) > 100, "{name} {method}: {} lit pixels", lit(&png));
         }
         let sorted = dir.path().join(format!("{name}_sorted.vtu"));
         tetkit([
@@ -115,5 +112,149 @@ fn tiny_meshes_are_drawn_by_projected_tetrahedra() {
             lit_by[0].abs_diff(lit_by[1]) <= 10,
             "{size}: PT vs ray caster {lit_by:?}"
         );
+    }
+}
+
+/// RGB bytes of a PNG.
+fn pixels(png: &Path) -> Vec<u8> {
+    image::open(png).unwrap().to_rgb8().into_raw()
+}
+
+/// Channels of two images more than 2/255 apart.
+fn channels_off(a: &[u8], b: &[u8]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).filter(|(x, y)| x.abs_diff(**y) > 2).count()
+}
+
+#[test]
+fn projected_tetrahedra_draw_meshes_of_any_size_alike() {
+    // PT carried perspective depth to f32 as 1/z: the products of the per-pixel depth formula
+    // overflowed for a mesh 1e-20 across and underflowed at 1e25, so both came out blank. Each
+    // size must now give the unit mesh's image, perspective and parallel, every integration.
+    let dir = tempdir();
+    let render = |input: &Path, png: &Path, extra: &[&str]| {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "render".as_ref(),
+            input.as_os_str(),
+            "-o".as_ref(),
+            png.as_os_str(),
+        ];
+        for a in [
+            "--size",
+            "48x48",
+            "-q",
+            "--scalar",
+            "coord:z",
+            "--elevation",
+            "25",
+        ]
+        .iter()
+        .chain(extra)
+        {
+            args.push(a.as_ref());
+        }
+        tetkit(args).assert_success();
+    };
+    let grid = |name: &str, size: f64| {
+        let mesh = structured_grid([4, 3, 2], [0.0; 3], [size; 3]);
+        let input = dir.path().join(format!("{name}.vtu"));
+        tetkit::formats::write(&input, &mesh.to_grid(), &Default::default()).unwrap();
+        input
+    };
+    let unit = grid("unit", 1.0);
+    for extra in [
+        &["--integration", "preintegrated"][..],
+        &["--integration", "linear"],
+        &["--integration", "average", "--parallel"],
+    ] {
+        let want_png = dir.path().join("unit.png");
+        render(&unit, &want_png, extra);
+        let want = pixels(&want_png);
+        assert!(lit(&want_png) > 500, "{extra:?}: {} lit", lit(&want_png));
+        for size in [1e-30, 1e-20, 1e-12, 1e12, 1e25, 1e30] {
+            let input = grid("sized", size);
+            let png = dir.path().join("sized.png");
+            render(&input, &png, extra);
+            let got = pixels(&png);
+            // Coordinates scaled by a non-power of two round differently: a step of 2/255
+            // at most, on few pixels.
+            let off = channels_off(&want, &got);
+            assert_eq!(
+                off, 0,
+                "size {size} {extra:?}: {off} channels differ from the unit mesh"
+            );
+        }
+    }
+}
+
+#[test]
+fn scenes_draw_alike_at_any_scale() {
+    // Body crossings are compared with PT's fragment depths, which are in the rasterizer's
+    // depth unit: a scene scaled by 1e-20 (or 1e20) must give the unit scene's image.
+    let dir = tempdir();
+    let mut want: Option<Vec<u8>> = None;
+    for size in [1.0, 1e-20, 1e20] {
+        let mesh = structured_grid([5, 5, 5], [0.0; 3], [size; 3]);
+        let input = dir.path().join("mesh.vtu");
+        tetkit::formats::write(&input, &mesh.to_grid(), &Default::default()).unwrap();
+        let v = |x: f64| format!("{:e}", x * size);
+        let toml = format!(
+            "[camera]\nposition = [{}, {}, {}]\nfocal = [{}, {}, {}]\n\
+             [transfer]\nopacity = [[0.0, 0.1], [{}, 0.5]]\nunit_distance = {}\n\
+             [[body]]\nshape = \"box\"\nmin = [{}, {}, {}]\nmax = [{}, {}, {}]\naction = \"cut\"\n\
+             [[body]]\nshape = \"sphere\"\ncenter = [{}, {}, {}]\nradius = {}\naction = \"transfer\"\n\
+             [body.transfer]\nopacity = [[0.0, 0.9], [{}, 0.9]]\ncolormap = \"reds\"\n",
+            v(2.2),
+            v(1.7),
+            v(2.9),
+            v(0.5),
+            v(0.5),
+            v(0.5),
+            // The scalar is x, so its opacity points scale too.
+            v(1.0),
+            v(0.3),
+            v(0.5),
+            v(0.5),
+            v(0.5),
+            v(1.1),
+            v(1.1),
+            v(1.1),
+            v(0.3),
+            v(0.4),
+            v(0.4),
+            v(0.2),
+            v(1.0),
+        );
+        let scene = dir.path().join("scene.toml");
+        std::fs::write(&scene, toml).unwrap();
+        let png = dir.path().join("scene.png");
+        tetkit([
+            "render".as_ref(),
+            input.as_os_str(),
+            "--scene".as_ref(),
+            scene.as_os_str(),
+            "-o".as_ref(),
+            png.as_os_str(),
+            "--size".as_ref(),
+            "48x48".as_ref(),
+            "--scalar".as_ref(),
+            "coord:x".as_ref(),
+            "-q".as_ref(),
+        ])
+        .assert_success();
+        let got = pixels(&png);
+        match &want {
+            None => {
+                assert!(lit(&png) > 500, "{} lit", lit(&png));
+                want = Some(got);
+            }
+            Some(w) => {
+                let off = channels_off(w, &got);
+                assert_eq!(
+                    off, 0,
+                    "size {size}: {off} channels differ from the unit scene"
+                );
+            }
+        }
     }
 }

@@ -257,6 +257,7 @@ pub struct Session {
     pub tf: TransferFunction,
     /// What `tf` was built from, for bodies' transfer functions to inherit.
     pub base: BaseLook,
+    /// Length axis of the pre-integration tables ([`prepare::table_length`]).
     pub lmax: f64,
     /// Subtracted from `field` and from every transfer function's scalars
     /// ([`crate::render::field::scalar_offset`]); 0 for most fields.
@@ -363,7 +364,7 @@ impl Session {
             unit_distance: unit,
             nodes: look.tf_nodes,
         };
-        let lmax = prepare::longest_edge(&mesh);
+        let lmax = prepare::table_length(&mesh, &tf, look.table.length);
         Ok(Session {
             mesh,
             field_name,
@@ -377,9 +378,15 @@ impl Session {
         })
     }
 
-    /// The ray caster's face adjacency, which the caster borrows (so the caller keeps it).
+    /// The ray caster's face adjacency, which the caster borrows (so the caller keeps it); with
+    /// coincident points welded ([`TetMesh::welded_tets`]), so the walk crosses the doubled
+    /// faces of an unwelded mesh instead of re-entering through the grid at each (5x slower on
+    /// a per-element mesh of 8,640 tets, same image).
     pub fn topology(&self) -> Topology {
-        Topology::build(&self.mesh.tets)
+        match self.mesh.welded_tets() {
+            Some(tets) => Topology::build(&tets),
+            None => Topology::build(&self.mesh.tets),
+        }
     }
 
     /// The ray caster (entry and locator grids) over this session's mesh and field.
@@ -578,7 +585,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 let (img, st) = match &table {
                     None => rc.render(&session.tf, &cam, w, h),
                     Some(tab) => rc.render_with(
-                        &|a, b, l| tab.lookup(a as f32, b as f32, l as f32).map(f64::from),
+                        &|a, b, l| tab.segment(a as f32, b as f32, l as f32).map(f64::from),
                         &cam,
                         w,
                         h,

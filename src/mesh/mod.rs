@@ -75,6 +75,31 @@ impl TetMesh {
         self.tets[t].map(|v| self.points[v as usize])
     }
 
+    /// The tets with each point id replaced by the lowest id of the points at the same
+    /// coordinates (-0 and 0 alike), or `None` when no tet uses two coincident points' ids.
+    /// Per-element output (every cell its own points, as DG codes write) and appended pieces
+    /// store a shared face twice; with ids welded the two tets are neighbours across it.
+    pub fn welded_tets(&self) -> Option<Vec<[u32; 4]>> {
+        use rayon::prelude::*;
+        let key = |i: u32| self.points[i as usize].map(|c| (c + 0.0).to_bits());
+        let mut ids: Vec<u32> = (0..self.points.len() as u32).collect();
+        ids.par_sort_unstable_by_key(|&i| (key(i), i));
+        let mut canon: Vec<u32> = (0..self.points.len() as u32).collect();
+        let mut any = false;
+        for w in ids.windows(2) {
+            if key(w[0]) == key(w[1]) {
+                canon[w[1] as usize] = canon[w[0] as usize];
+                any = true;
+            }
+        }
+        any.then(|| {
+            self.tets
+                .par_iter()
+                .map(|t| t.map(|v| canon.get(v as usize).copied().unwrap_or(v)))
+                .collect()
+        })
+    }
+
     pub fn bounds(&self) -> Aabb {
         Aabb::of_points(self.points.iter())
     }
@@ -82,3 +107,29 @@ impl TetMesh {
 
 pub mod generate;
 pub mod tetrahedralize;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn welded_tets_map_coincident_points_to_the_lowest_id() {
+        let mut m = TetMesh {
+            points: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [1.0, 1.0, 1.0],
+            ],
+            tets: vec![[0, 1, 2, 3], [1, 2, 3, 4]],
+            ..Default::default()
+        };
+        assert_eq!(m.welded_tets(), None);
+        // The second tet stored apart: copies of points 1, 2, 3 (one with -0 for 0).
+        m.points
+            .extend([[1.0, 0.0, 0.0], [0.0, 1.0, -0.0], [0.0, 0.0, 1.0]]);
+        m.tets[1] = [5, 6, 7, 4];
+        assert_eq!(m.welded_tets(), Some(vec![[0, 1, 2, 3], [1, 2, 3, 4]]));
+    }
+}

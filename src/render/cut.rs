@@ -474,11 +474,13 @@ fn composite(slot: &mut [f32; 4], c: [f32; 4]) {
 }
 
 /// Rasterizes one tet, splitting each pixel's fragment at that pixel's crossings; `z0` is the
-/// view depth of the tet's vertex 0 (fragment depths are relative to it).
+/// view depth of the tet's vertex 0 (fragment depths are relative to it, in units of `zunit`,
+/// the view's [`View::zunit`]).
 #[allow(clippy::too_many_arguments)]
 fn raster_split(
     t: &TetSetup,
     z0: f64,
+    zunit: f64,
     parallel: bool,
     tile: (i64, i64, i64, i64),
     buf: &mut [[f32; 4]],
@@ -533,7 +535,8 @@ fn raster_split(
                 zb,
                 reg.start[p],
                 cs,
-                |i| (zs[i] - z0) as f32,
+                // In the rasterizer's depth unit, as `zf` and `zb` are (exact: a power of two).
+                |i| ((zs[i] - z0) / zunit) as f32,
                 slots,
                 |a, b, k| {
                     let sa = (sref + a * h).clamp(t.smin, t.smax);
@@ -833,6 +836,7 @@ impl pt::TileDraw for SceneDraw<'_> {
                 let o = raster_split(
                     setup,
                     pv[0].view[2],
+                    f.view.zunit,
                     f.view.parallel,
                     tile,
                     buf,

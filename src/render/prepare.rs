@@ -55,22 +55,66 @@ impl std::str::FromStr for TableSize {
     }
 }
 
+/// Longest edge of tet `t`: no chord through it is longer.
+fn tet_longest_edge(mesh: &TetMesh, t: &[u32; 4]) -> f64 {
+    let p = t.map(|v| mesh.points[v as usize]);
+    let mut m = 0.0f64;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
+            m = m.max(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        }
+    }
+    m.sqrt()
+}
+
 /// Longest tet edge: no chord through a tet is longer, so it bounds the table's length axis.
 pub fn longest_edge(mesh: &TetMesh) -> f64 {
     mesh.tets
         .par_iter()
-        .map(|t| {
-            let p = t.map(|v| mesh.points[v as usize]);
-            let mut m = 0.0f64;
-            for i in 0..4 {
-                for j in i + 1..4 {
-                    let d = [0, 1, 2].map(|k| p[i][k] - p[j][k]);
-                    m = m.max(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                }
-            }
-            m.sqrt()
-        })
+        .map(|t| tet_longest_edge(mesh, t))
         .reduce(|| 0.0, f64::max)
+}
+
+/// Optical depth of one step of the table's length axis above which long fragments are split
+/// rather than the steps made that long: interpolating across a step of optical depth `D` errs
+/// by up to about `D^2 / 8`.
+const STEP_DEPTH: f64 = 0.1;
+
+/// The pre-integration table's length axis for `steps` entries along it and transfer function
+/// `tf`: the longest tet edge, unless a step that long would be optically thick (over
+/// [`STEP_DEPTH`] at the function's densest) and most tets are much shorter. Then the axis is
+/// shortened to the length where a step has that depth, but not below the 90th percentile of
+/// the tets' longest edges (more would split most fragments), and longer fragments are split
+/// into pieces ([`crate::render::integrate::PreintTable::segment`]). A mesh of slivers or a
+/// graded one has a few edges many times the typical one; an axis spanning them left most
+/// fragments inside its first step (on a TetGen Delaunay cloud of 134k tets, longest edge 1.02,
+/// 90th percentile 0.13: RMSE against the exact ray caster 3.5e-3 before, 4e-5 split). A
+/// near-uniform mesh (the shortened axis over half the longest edge) is never split.
+pub fn table_length(mesh: &TetMesh, tf: &TransferFunction, steps: usize) -> f64 {
+    let mut edges: Vec<f64> = mesh
+        .tets
+        .par_iter()
+        .map(|t| tet_longest_edge(mesh, t))
+        .filter(|m| m.is_finite())
+        .collect();
+    let Some(&max) = edges.iter().max_by(|a, b| a.total_cmp(b)) else {
+        return 0.0;
+    };
+    let k = (edges.len() - 1) * 90 / 100;
+    let (_, &mut p90, _) = edges.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
+    let tau = tf.tau.iter().copied().fold(0.0, f64::max);
+    let thin = STEP_DEPTH * steps.saturating_sub(1).max(1) as f64 / tau;
+    let cap = if thin.is_nan() {
+        max
+    } else {
+        thin.min(max).max(p90)
+    };
+    if cap > 0.5 * max || !(cap > 0.0) {
+        max
+    } else {
+        cap
+    }
 }
 
 /// Builds the shader for an integration mode (the 3-D table for `preintegrated`).
@@ -79,7 +123,7 @@ pub fn shader(tf: &TransferFunction, mode: Integration, size: TableSize, lmax: f
         Integration::Average => Shader::Average(FastTf::new(tf)),
         Integration::Linear => Shader::Linear(FastTf::new(tf)),
         Integration::Preintegrated => {
-            // A hair longer than the longest edge so rounding never clamps a real chord.
+            // A hair longer than `lmax` so rounding never splits a chord of that length.
             Shader::Pre(PreintTable::build(
                 tf,
                 size.scalar,
@@ -108,5 +152,53 @@ pub fn auto_range(field: &Field) -> [f64; 2] {
         Some([a, b]) if b > a => [a, b],
         Some([a, _]) => [a - 0.5, a + 0.5],
         None => [0.0, 1.0],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::structured_grid;
+    use crate::render::transfer::{named_colormap, OpacitySpec};
+
+    fn tf(max_opacity: f64, unit: f64) -> TransferFunction {
+        let spec = OpacitySpec::parse(&format!("0:0,1:{max_opacity}")).unwrap();
+        TransferFunction::build(
+            &named_colormap("viridis").unwrap(),
+            Some(&spec),
+            [0.0, 1.0],
+            unit,
+            16,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn table_length_shortens_the_axis_only_for_long_outliers_and_thick_steps() {
+        // Near-uniform: the longest edge, however opaque.
+        let grid = structured_grid([6, 6, 6], [0.0; 3], [1.0; 3]);
+        let longest = longest_edge(&grid);
+        assert_eq!(table_length(&grid, &tf(1.0, 0.01), 32), longest);
+        // A graded mesh: 200 thin columns and one 100 times wider (0.4 % of the tets).
+        let mut graded = structured_grid([201, 2, 2], [0.0; 3], [1.0, 0.01, 0.01]);
+        for p in graded.points.iter_mut() {
+            let i = (p[0] * 201.0).round();
+            p[0] = if i <= 200.0 { i * 1e-3 } else { 0.3 };
+        }
+        let longest = longest_edge(&graded);
+        assert!(longest > 0.09, "{longest}");
+        // Optically thin steps: nothing to gain, the whole axis.
+        assert_eq!(table_length(&graded, &tf(0.3, 10.0), 32), longest);
+        // Opaque: down to the 90th percentile of longest edges (about 0.01).
+        let thick = table_length(&graded, &tf(1.0, 0.01), 32);
+        assert!(thick < 0.02 && thick > 0.005, "{thick}");
+        // Between: where a step is 0.1 optical depths.
+        let t = tf(0.5, 0.007);
+        let tau = t.tau.iter().copied().fold(0.0, f64::max);
+        let mid = table_length(&graded, &t, 32);
+        assert!(
+            (mid - 0.1 * 31.0 / tau).abs() < 1e-12 && mid < 0.5 * longest,
+            "{mid}"
+        );
     }
 }

@@ -78,7 +78,7 @@ pub fn run(args: &GpuBenchArgs) -> Result<()> {
             &tf,
             args.integration,
             TableSize::default(),
-            prepare::longest_edge(&m),
+            prepare::table_length(&m, &tf, TableSize::default().length),
         );
         let sorter = Sorter::new(&m, None)?;
         let cam_at = |i: usize| {

@@ -210,7 +210,7 @@ impl Prepared {
             (nf + (nb > 1) as usize) & 3,
             (nf + 2 * (nb > 2) as usize) & 3,
         );
-        TetSetup {
+        let mut su = TetSetup {
             poly: self.poly,
             nedges: self.nedges as u32,
             x0: x0 as i32,
@@ -219,14 +219,22 @@ impl Prepared {
             y1: y1 as i32,
             ox: self.ox,
             oy: self.oy,
-            front: [pl[0], pl[f1], pl[f2]],
-            back: [pl[nf & 3], pl[b1], pl[b2]],
+            front: [[0.0; 3]; 3],
+            back: [[0.0; 3]; 3],
             w0: self.w0,
             sref: self.sref,
             h: self.h,
             smin: self.smin,
             smax: self.smax,
-        }
+        };
+        // Slot by slot: an array expression here was still built on the stack and copied wide.
+        su.front[0] = pl[0];
+        su.front[1] = pl[f1];
+        su.front[2] = pl[f2];
+        su.back[0] = pl[nf & 3];
+        su.back[1] = pl[b1];
+        su.back[2] = pl[b2];
+        su
     }
 }
 
@@ -288,12 +296,13 @@ pub(crate) fn setup_tet(
     // Fixed-point positions lie within the guard band (2^28), so they fit i32.
     let poly = corners.map(|v| [fp[v].0 as i32, fp[v].1 as i32]);
 
-    // Depth planes: w = 1/z (perspective) or z (parallel), relative to vertex 0.
+    // Depth planes: w = zunit/z (perspective) or z (parallel), relative to vertex 0; depth
+    // offsets then come out in units of zunit (see `View::zunit`).
     let wv = pv.map(|p| {
         if view.parallel {
             p.view[2]
         } else {
-            1.0 / p.view[2]
+            view.zunit / p.view[2]
         }
     });
     let w0 = wv[0];
@@ -397,7 +406,8 @@ pub(crate) fn setup_tet(
     let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     out.poly = poly;
     out.sref = sref.map(|x| x as f32);
-    out.h = h.map(|x| x as f32);
+    // Per unit of depth offset, which is `zunit` (exact: a power of two).
+    out.h = h.map(|x| (x * view.zunit) as f32);
     out.ox = ox as f32;
     out.oy = oy as f32;
     out.w0 = w0 as f32;
@@ -409,7 +419,8 @@ pub(crate) fn setup_tet(
     Some(bounds)
 }
 
-/// A fragment's entry and exit depths relative to vertex 0's depth, and its scalar as
+/// A fragment's entry and exit depths relative to vertex 0's depth (in units of
+/// [`View::zunit`]), and its scalar as
 /// `sref + h * depth` (unclamped), at pixel centre `(cx, cy)`: what a scene splits at body
 /// crossings.
 #[inline(always)]

@@ -26,7 +26,7 @@ impl Shader {
     #[inline(always)]
     pub fn shade(&self, sf: f32, sb: f32, l: f32) -> [f32; 4] {
         match self {
-            Shader::Pre(tab) => tab.lookup(sf, sb, l),
+            Shader::Pre(tab) => tab.segment(sf, sb, l),
             Shader::Average(tf) => tf.average(sf, sb, l),
             Shader::Linear(tf) => tf.linear(sf, sb, l),
         }
@@ -127,10 +127,13 @@ pub(crate) fn composite_lanes<S: Shade + ?Sized>(
     }
 }
 
-/// Table corners and weights of [`LANES`] lookups.
+/// Table corners and weights of [`LANES`] lookups; lanes longer than the table's length axis
+/// (bit `i` of `long`) take [`PreintTable::segment`] of their fragment instead.
 pub(crate) struct TableLanes {
     base: [usize; LANES],
     w: [[f32; LANES]; 3],
+    long: u32,
+    f: Lanes,
 }
 
 impl Shade for PreintTable {
@@ -141,11 +144,14 @@ impl Shade for PreintTable {
         let ltop = (self.nl - 1) as f32;
         let (mut base, mut w) = ([0usize; LANES], [[0f32; LANES]; 3]);
         let (ns, nl) = (self.ns as i32, self.nl as i32);
+        let mut long = 0u32;
         for i in 0..LANES {
             // max then min (not clamp): NaN becomes 0, so every value is in [0, top].
             let xf = ((f[0][i] - self.s0) * self.inv_ds).max(0.0).min(top);
             let xb = ((f[1][i] - self.s0) * self.inv_ds).max(0.0).min(top);
-            let xl = (f[2][i] * self.inv_dl).max(0.0).min(ltop);
+            let ql = f[2][i] * self.inv_dl;
+            long |= ((ql > ltop) as u32) << i;
+            let xl = ql.max(0.0).min(ltop);
             // SAFETY: each value is finite and in [0, ns - 1] or [0, nl - 1] (table sizes are
             // far below i32::MAX), where truncation to i32 is defined; the checked cast would
             // not vectorize.
@@ -161,10 +167,18 @@ impl Shade for PreintTable {
             w[2][i] = xl - c as f32;
             base[i] = ((c * ns + b) * ns + a) as usize;
         }
-        TableLanes { base, w }
+        TableLanes {
+            base,
+            w,
+            long,
+            f: *f,
+        }
     }
     #[inline(always)]
     fn at(&self, p: &TableLanes, i: usize) -> [f32; 4] {
+        if p.long >> i & 1 != 0 {
+            return self.segment(p.f[0][i], p.f[1][i], p.f[2][i]);
+        }
         self.corners(p.base[i], p.w[0][i], p.w[1][i], p.w[2][i])
     }
     #[inline(always)]
@@ -267,10 +281,11 @@ mod x86 {
         let top = _mm256_set1_ps((t.ns - 1) as f32);
         let xf = clamp0(_mm256_mul_ps(_mm256_sub_ps(sf, s0), inv_ds), top);
         let xb = clamp0(_mm256_mul_ps(_mm256_sub_ps(sb, s0), inv_ds), top);
-        let xl = clamp0(
-            _mm256_mul_ps(l, _mm256_set1_ps(t.inv_dl)),
-            _mm256_set1_ps((t.nl - 1) as f32),
-        );
+        let ql = _mm256_mul_ps(l, _mm256_set1_ps(t.inv_dl));
+        let ltop = _mm256_set1_ps((t.nl - 1) as f32);
+        // Lanes past the length axis: `PreintTable::segment` replaces their lookup below.
+        let long = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(ql, ltop));
+        let xl = clamp0(ql, ltop);
         let (ns, nl) = (t.ns as i32, t.nl as i32);
         // Truncation of values in [0, ns - 1] or [0, nl - 1], as `to_int_unchecked`.
         let a = _mm256_min_epi32(_mm256_cvttps_epi32(xf), _mm256_set1_epi32(ns - 2));
@@ -341,6 +356,21 @@ mod x86 {
                     tb,
                 );
                 lerp(p0, p1, tl)
+            };
+            let v = if long >> i & 1 != 0 || (both && long >> j & 1 != 0) {
+                // The scalar path's values for the long lanes, the lookup for the others.
+                let mut h = [[0f32; 4]; 2];
+                // SAFETY: `h` holds 8 floats.
+                unsafe { _mm256_storeu_ps(h.as_mut_ptr().cast(), v) };
+                for (half, lane) in [(0, i), (1, j)] {
+                    if lane < n && long >> lane & 1 != 0 {
+                        h[half] = t.segment(f[0][lane], f[1][lane], f[2][lane]);
+                    }
+                }
+                // SAFETY: as above.
+                unsafe { _mm256_loadu_ps(h.as_ptr().cast()) }
+            } else {
+                v
             };
             let k = _mm256_sub_ps(one, alpha);
             let new = _mm256_blendv_ps(s, _mm256_add_ps(s, _mm256_mul_ps(k, v)), live);
@@ -429,7 +459,8 @@ pub(crate) mod tests {
         for case in 0..20_000 {
             let mut f = [[0f32; LANES]; 3];
             for (k, lanes) in f.iter_mut().enumerate() {
-                let hi = if k < 2 { 3.0 } else { table.lmax as f32 };
+                // Lengths up to three times the table's axis: long lanes take `segment`.
+                let hi = if k < 2 { 3.0 } else { 3.0 * table.lmax as f32 };
                 for v in lanes.iter_mut() {
                     *v = value(&mut r, if k < 2 { -1.0 } else { 0.0 }, hi);
                 }

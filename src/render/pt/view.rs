@@ -24,6 +24,23 @@ pub struct View {
     /// the camera's distance when that is below 1, so a mesh 1e-10 across (nanometres in
     /// metres) is not all "behind the eye".
     pub near: f64,
+    /// The depth unit of the rasterizer's perspective planes, a power of two near the camera's
+    /// distance (1 in parallel): depths go to f32 as `w = zunit / z` and depth offsets come out
+    /// in units of `zunit`. With `w = 1 / z` the products `w0 (w0 + d)` overflowed f32 for a
+    /// mesh 1e-20 across and underflowed at 1e25 across, leaving the image blank; scaling by a
+    /// power of two is exact, so ordinary views keep every bit.
+    pub zunit: f64,
+}
+
+/// The power of two nearest `d` (within 2^-1000..2^1000), or 1 when `d` is not a positive
+/// finite number.
+fn pow2_near(d: f64) -> f64 {
+    if !(d.is_finite() && d > 0.0) {
+        return 1.0;
+    }
+    let e = d.log2().round().clamp(-1000.0, 1000.0) as i64;
+    // The exponent field of an f64 holds e + 1023 for a normal power of two.
+    f64::from_bits(((e + 1023) as u64) << 52)
 }
 
 impl View {
@@ -44,6 +61,11 @@ impl View {
             },
             aspect: width as f64 / height as f64,
             near: 1e-9 * cam.distance().min(1.0),
+            zunit: if cam.parallel {
+                1.0
+            } else {
+                pow2_near(cam.distance())
+            },
         }
     }
 
@@ -136,11 +158,12 @@ pub fn project_points(view: &View, points: &[[f64; 3]]) -> Vec<Projected> {
     out
 }
 
-/// Each pixel centre's world length of the view ray per unit of depth, row by row.
+/// Each pixel centre's world length of the view ray per [`View::zunit`] of depth (the unit of
+/// the rasterizer's depth offsets), row by row.
 pub(crate) fn stretch_map(view: &View) -> Vec<f32> {
     let (w, h) = (view.width as usize, view.height as usize);
     (0..w * h)
         .into_par_iter()
-        .map(|i| view.stretch((i % w) as f64 + 0.5, (i / w) as f64 + 0.5) as f32)
+        .map(|i| (view.stretch((i % w) as f64 + 0.5, (i / w) as f64 + 0.5) * view.zunit) as f32)
         .collect()
 }
