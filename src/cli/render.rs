@@ -291,8 +291,24 @@ impl Session {
         if mesh.tets.is_empty() {
             bail!("{}: no tets to render", input.display());
         }
-        let (field_name, field) = Field::select(&mesh, look.scalar.as_deref())
+        let (field_name, mut field) = Field::select(&mesh, look.scalar.as_deref())
             .with_context(|| format!("{}", input.display()))?;
+        let mut mesh = mesh;
+        let left_out = field.drop_non_finite(&mut mesh);
+        if left_out > 0 {
+            if mesh.tets.is_empty() {
+                bail!(
+                    "{}: every tet reads a NaN or infinite value of '{field_name}': nothing to draw",
+                    input.display()
+                );
+            }
+            if !look.quiet {
+                eprintln!(
+                    "tetkit: {}: {left_out} tets read a NaN or infinite value of '{field_name}' and are left out",
+                    input.display()
+                );
+            }
+        }
         field
             .check(&mesh, &field_name)
             .with_context(|| format!("{}", input.display()))?;
@@ -350,7 +366,6 @@ impl Session {
         // Far from zero compared with its range, the field is drawn shifted towards zero (PT
         // keeps scalars in f32); the scene's transfer functions move with it (`run`).
         let scalar_offset = crate::render::field::scalar_offset(range);
-        let mut field = field;
         let range = if scalar_offset != 0.0 {
             field.shift(scalar_offset);
             range.map(|x| x - scalar_offset)

@@ -147,6 +147,35 @@ impl Field {
         }
     }
 
+    /// Leaves out the tets that read a NaN or infinite value (any vertex's, or the cell's own):
+    /// the mesh and a cell field keep the rest in order, with their cell data; point values no
+    /// kept tet reads become 0. Returns how many tets were left out. A solver's result with NaN
+    /// where it is undefined is drawn where it is defined, rather than refused.
+    pub fn drop_non_finite(&mut self, mesh: &mut TetMesh) -> usize {
+        let n = mesh.tets.len();
+        let keep: Vec<usize> = match &*self {
+            Field::Point(v) if v.len() == mesh.points.len() => (0..n)
+                .filter(|&t| mesh.tets[t].iter().all(|&p| v[p as usize].is_finite()))
+                .collect(),
+            Field::Cell(v) if v.len() == n => (0..n).filter(|&t| v[t].is_finite()).collect(),
+            // Lengths that disagree are `check`'s to report.
+            _ => return 0,
+        };
+        if keep.len() == n {
+            return 0;
+        }
+        mesh.tets = keep.iter().map(|&t| mesh.tets[t]).collect();
+        mesh.cell_data = mesh.cell_data.gather(&keep);
+        match self {
+            Field::Point(v) => v
+                .iter_mut()
+                .filter(|x| !x.is_finite())
+                .for_each(|x| *x = 0.0),
+            Field::Cell(v) => *v = keep.iter().map(|&t| v[t]).collect(),
+        }
+        n - keep.len()
+    }
+
     /// Checks lengths against the mesh and that every value is finite.
     pub fn check(&self, mesh: &TetMesh, name: &str) -> Result<()> {
         let (v, n, what) = match self {
