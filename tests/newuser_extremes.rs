@@ -258,3 +258,28 @@ fn scenes_draw_alike_at_any_scale() {
         }
     }
 }
+
+#[test]
+fn a_mesh_of_zero_extent_is_named_as_such() {
+    // Every point at one place (coordinates that collapsed when written as f32 far from the
+    // origin): the error said only that the camera position equals the focal point.
+    let dir = tempdir();
+    let mut mesh = structured_grid([1, 1, 1], [0.0; 3], [1.0; 3]);
+    for p in mesh.points.iter_mut() {
+        *p = [1e17, -1e17, 3e17];
+    }
+    let input = dir.path().join("collapsed.vtu");
+    tetkit::formats::write(&input, &mesh.to_grid(), &Default::default()).unwrap();
+    let png = dir.path().join("x.png");
+    let sorted = dir.path().join("s.vtu");
+    for args in [
+        vec!["render", "", "-o", png.to_str().unwrap()],
+        vec!["sort", "", "-o", sorted.to_str().unwrap()],
+        vec!["check-order", ""],
+    ] {
+        let mut args = args;
+        args[1] = input.to_str().unwrap();
+        tetkit(&args).assert_failure(&["collapsed.vtu", "zero extent", "--position"]);
+    }
+    assert!(!png.exists() && !sorted.exists());
+}

@@ -145,6 +145,14 @@ impl CameraArgs {
             _ => {}
         }
         let d = sub(&cam.focal, &cam.position);
+        if dot(&d, &d) == 0.0 && !bounds.is_empty() && bounds.extent() == [0.0; 3] {
+            // Every point at one place (a mesh of one point, or coordinates that collapsed when
+            // written as f32 far from the origin): there is no size to fit a camera to.
+            bail!(
+                "the mesh has zero extent (every point at {:?}): no camera fits it; give --position and --focal to look anyway",
+                bounds.min
+            );
+        }
         if dot(&d, &d) == 0.0 {
             bail!(
                 "camera position {:?} equals the focal point: no view direction",

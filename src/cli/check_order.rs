@@ -1,6 +1,6 @@
 //! `tetkit check-order`: ray-order violations of a visibility order, independent of the sort code.
 
-use anyhow::bail;
+use anyhow::{bail, Context};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -45,7 +45,10 @@ fn parse_rays(s: &str) -> Result<u64, String> {
 
 pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
     let (grid, mesh, tree) = load(&args.input)?;
-    let cam = args.camera.camera(&mesh.bounds())?;
+    let cam = args
+        .camera
+        .camera(&mesh.bounds())
+        .with_context(|| format!("{}", args.input.display()))?;
     let side = ((args.rays.max(1) as f64).sqrt().round() as u32).clamp(1, 8192);
     let n = mesh.tets.len();
     let from_file = grid.cell_data.get("visibility_order");

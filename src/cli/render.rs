@@ -496,9 +496,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     progress.step("read");
     let cam0 = match &scene {
-        Some(s) => session.bounds_camera(&super::render_scene::camera_args(&args.camera, s))?,
-        None => session.bounds_camera(&args.camera)?,
-    };
+        Some(s) => session.bounds_camera(&super::render_scene::camera_args(&args.camera, s)),
+        None => session.bounds_camera(&args.camera),
+    }
+    .with_context(|| format!("{}", args.input.display()))?;
     // Bodies take their own path; a scene without bodies renders exactly as no scene.
     if let Some(s) = scene.as_ref().filter(|s| !s.bodies.is_empty()) {
         if super::render_device::scene_gpu(args, &session, s, cam0, step)? {

@@ -96,7 +96,10 @@ pub fn annotate(grid: &mut formats::Grid, order: &Order, dir: Direction) {
 
 pub fn run(args: &SortArgs) -> anyhow::Result<()> {
     let (mut grid, mesh, tree) = load(&args.input)?;
-    let cam = args.camera.camera(&mesh.bounds())?;
+    let cam = args
+        .camera
+        .camera(&mesh.bounds())
+        .with_context(|| format!("{}", args.input.display()))?;
     let t0 = std::time::Instant::now();
     let sorter = Sorter::new(&mesh, tree.as_ref())?;
     let setup = t0.elapsed().as_secs_f64();

@@ -54,7 +54,9 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     let combos = SortChoice::ALL.len() * Integration::ALL.len();
     let mut progress = Progress::new(look.quiet, 3 + combos as u64, "tradeoff");
     let session = Session::open(&args.input, look)?;
-    let cam = session.bounds_camera(&args.camera)?;
+    let cam = session
+        .bounds_camera(&args.camera)
+        .with_context(|| format!("{}", args.input.display()))?;
     progress.step("read");
     // The folder is made once the input is read, and taken back if anything fails after: a
     // failed run leaves no folder of partial results.
