@@ -281,7 +281,7 @@ impl Session {
         let t0 = Instant::now();
         let grid = super::read_input(input)?;
         // Tets kept, other 3-D cells tetrahedralized, lower cells dropped (said on stderr).
-        let (mesh, _, notes) =
+        let (mut mesh, _, notes) =
             crate::partition::input::tets_of(&grid, &input.display().to_string())?;
         if !look.quiet {
             for n in notes {
@@ -293,7 +293,9 @@ impl Session {
         }
         let (field_name, mut field) = Field::select(&mesh, look.scalar.as_deref())
             .with_context(|| format!("{}", input.display()))?;
-        let mut mesh = mesh;
+        field
+            .check(&mesh, &field_name)
+            .with_context(|| format!("{}", input.display()))?;
         let left_out = field.drop_non_finite(&mut mesh);
         if left_out > 0 {
             if mesh.tets.is_empty() {
@@ -309,9 +311,6 @@ impl Session {
                 );
             }
         }
-        field
-            .check(&mesh, &field_name)
-            .with_context(|| format!("{}", input.display()))?;
         let range = match &look.range {
             Some(r) => {
                 let v = parse_range(r)?;

@@ -158,7 +158,7 @@ impl Field {
                 .filter(|&t| mesh.tets[t].iter().all(|&p| v[p as usize].is_finite()))
                 .collect(),
             Field::Cell(v) if v.len() == n => (0..n).filter(|&t| v[t].is_finite()).collect(),
-            // Lengths that disagree are `check`'s to report.
+            // Lengths that disagree: `check`, called first, has refused them.
             _ => return 0,
         };
         if keep.len() == n {
@@ -176,7 +176,7 @@ impl Field {
         n - keep.len()
     }
 
-    /// Checks lengths against the mesh and that every value is finite.
+    /// Checks lengths against the mesh (non-finite values are [`Field::drop_non_finite`]'s).
     pub fn check(&self, mesh: &TetMesh, name: &str) -> Result<()> {
         let (v, n, what) = match self {
             Field::Point(v) => (v, mesh.points.len(), "points"),
@@ -184,9 +184,6 @@ impl Field {
         };
         if v.len() != n {
             bail!("array '{name}' has {} tuples for {n} {what}", v.len());
-        }
-        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            bail!("array '{name}' tuple {i}: value {} is not finite", v[i]);
         }
         Ok(())
     }

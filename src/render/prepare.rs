@@ -161,24 +161,24 @@ mod tests {
     use crate::mesh::generate::structured_grid;
     use crate::render::transfer::{named_colormap, OpacitySpec};
 
-    fn tf(max_opacity: f64, unit: f64) -> TransferFunction {
-        let spec = OpacitySpec::parse(&format!("0:0,1:{max_opacity}")).unwrap();
+    fn tf(max_opacity: f64, unit: f64) -> anyhow::Result<TransferFunction> {
+        let spec = OpacitySpec::parse(&format!("0:0,1:{max_opacity}"))?;
         TransferFunction::build(
-            &named_colormap("viridis").unwrap(),
+            &named_colormap("viridis")?,
             Some(&spec),
             [0.0, 1.0],
             unit,
             16,
         )
-        .unwrap()
     }
 
     #[test]
-    fn table_length_shortens_the_axis_only_for_long_outliers_and_thick_steps() {
+    fn table_length_shortens_the_axis_only_for_long_outliers_and_thick_steps() -> anyhow::Result<()>
+    {
         // Near-uniform: the longest edge, however opaque.
         let grid = structured_grid([6, 6, 6], [0.0; 3], [1.0; 3]);
         let longest = longest_edge(&grid);
-        assert_eq!(table_length(&grid, &tf(1.0, 0.01), 32), longest);
+        assert_eq!(table_length(&grid, &tf(1.0, 0.01)?, 32), longest);
         // A graded mesh: 200 thin columns and one 100 times wider (0.4 % of the tets).
         let mut graded = structured_grid([201, 2, 2], [0.0; 3], [1.0, 0.01, 0.01]);
         for p in graded.points.iter_mut() {
@@ -188,17 +188,18 @@ mod tests {
         let longest = longest_edge(&graded);
         assert!(longest > 0.09, "{longest}");
         // Optically thin steps: nothing to gain, the whole axis.
-        assert_eq!(table_length(&graded, &tf(0.3, 10.0), 32), longest);
+        assert_eq!(table_length(&graded, &tf(0.3, 10.0)?, 32), longest);
         // Opaque: down to the 90th percentile of longest edges (about 0.01).
-        let thick = table_length(&graded, &tf(1.0, 0.01), 32);
+        let thick = table_length(&graded, &tf(1.0, 0.01)?, 32);
         assert!(thick < 0.02 && thick > 0.005, "{thick}");
         // Between: where a step is 0.1 optical depths.
-        let t = tf(0.5, 0.007);
+        let t = tf(0.5, 0.007)?;
         let tau = t.tau.iter().copied().fold(0.0, f64::max);
         let mid = table_length(&graded, &t, 32);
         assert!(
             (mid - 0.1 * 31.0 / tau).abs() < 1e-12 && mid < 0.5 * longest,
             "{mid}"
         );
+        Ok(())
     }
 }

@@ -357,7 +357,7 @@ mod x86 {
                 );
                 lerp(p0, p1, tl)
             };
-            let v = if long >> i & 1 != 0 || (both && long >> j & 1 != 0) {
+            let v = if long != 0 && (long >> i & 1 != 0 || (both && long >> j & 1 != 0)) {
                 // The scalar path's values for the long lanes, the lookup for the others.
                 let mut h = [[0f32; 4]; 2];
                 // SAFETY: `h` holds 8 floats.

@@ -37,9 +37,9 @@ pub(crate) enum Prep {
 }
 
 impl Frame<'_> {
-    /// Sets up tet `t` (counting its class): what its tiles draw and its pixel box.
+    /// Tet `t`'s projected vertices and field values.
     #[inline(always)]
-    pub(crate) fn prepare(&self, t: u32, st: &mut PtStats) -> Option<(Prep, PixelBox)> {
+    fn vertices(&self, t: u32) -> ([&Projected; 4], [f64; 4]) {
         let tet = &self.tets[t as usize];
         let pr = self.proj;
         let pv = [
@@ -48,12 +48,25 @@ impl Frame<'_> {
             &pr[tet[2] as usize],
             &pr[tet[3] as usize],
         ];
-        let s = self.field.at(t as usize, tet);
+        (pv, self.field.at(t as usize, tet))
+    }
+
+    /// The clipping path's set-up and pixel box of a tet the rasterizer cannot take.
+    #[inline(always)]
+    fn clip(&self, pv: [&Projected; 4], s: [f64; 4]) -> Option<(ClipSetup, PixelBox)> {
+        let (w, h) = (self.view.width as usize, self.view.height as usize);
+        let c = ClipSetup::new(pv, s)?;
+        let b = clip_box(self.view, &pv, w, h)?;
+        Some((c, b))
+    }
+
+    /// Sets up tet `t` (counting its class): what its tiles draw and its pixel box.
+    #[inline(always)]
+    pub(crate) fn prepare(&self, t: u32, st: &mut PtStats) -> Option<(Prep, PixelBox)> {
+        let (pv, s) = self.vertices(t);
         if pv.iter().any(|p| !p.ok) {
             st.clipped += 1;
-            let (w, h) = (self.view.width as usize, self.view.height as usize);
-            let c = ClipSetup::new(pv, s)?;
-            let b = clip_box(self.view, &pv, w, h)?;
+            let (c, b) = self.clip(pv, s)?;
             Some((Prep::Clipped(c, b), b))
         } else {
             let mut rec = Prepared::clipped(0);
@@ -66,20 +79,10 @@ impl Frame<'_> {
     /// set-up) and returns its pixel box, or `None` with nothing pushed when it draws nothing.
     #[inline(always)]
     fn prepare_into(&self, t: u32, run: &mut Run) -> Option<PixelBox> {
-        let tet = &self.tets[t as usize];
-        let pr = self.proj;
-        let pv = [
-            &pr[tet[0] as usize],
-            &pr[tet[1] as usize],
-            &pr[tet[2] as usize],
-            &pr[tet[3] as usize],
-        ];
-        let s = self.field.at(t as usize, tet);
+        let (pv, s) = self.vertices(t);
         if pv.iter().any(|p| !p.ok) {
             run.stats.clipped += 1;
-            let (w, h) = (self.view.width as usize, self.view.height as usize);
-            let c = ClipSetup::new(pv, s)?;
-            let b = clip_box(self.view, &pv, w, h)?;
+            let (c, b) = self.clip(pv, s)?;
             run.recs.push(Prepared::clipped(run.clipped.len() as u32));
             run.clipped.push((c, b));
             return Some(b);
