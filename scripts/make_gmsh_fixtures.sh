@@ -8,6 +8,9 @@
 #   cavity.vtk      a unit cube with an internal spherical cavity (two boundary shells, ~1.1k tets)
 #   extruded.vtk    a plate with a hole, meshed with quads and triangles and extruded in 3 layers:
 #                   hexahedra and wedges (Gmsh's structured extrusion), with boundary quads/triangles
+#   hexgrid.vtk     a unit cube as a transfinite 5 x 5 x 5 grid of hexahedra (coordinates carry
+#                   Gmsh's rounding, 0.4000000000000002): the default camera's eye lies on the
+#                   grid's symmetry planes, where pixel rays graze edges
 set -euo pipefail
 out="$(cd "$(dirname "$0")/.." && pwd)/fixtures/gmsh"
 mkdir -p "$out"
@@ -47,7 +50,16 @@ Recombine Surface{1};
 Extrude {0, 0, 0.3} { Surface{1}; Layers{3}; Recombine; }
 GEO
 
-for name in block_hole lshape cavity extruded; do
+cat >"$work/hexgrid.geo" <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Transfinite Curve{:} = 6;
+Transfinite Surface{:};
+Recombine Surface{:};
+Transfinite Volume{:};
+GEO
+
+for name in block_hole lshape cavity extruded hexgrid; do
   gmsh -3 "$work/$name.geo" -format vtk -o "$work/$name.vtk" >"$work/$name.log" 2>&1 \
     || { cat "$work/$name.log"; exit 1; }
   # Gmsh names the file it wrote in the header; keep only the base name so the fixture does not

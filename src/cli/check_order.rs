@@ -117,6 +117,12 @@ pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
             r.height,
             r.crossings
         );
+        if r.edge_meetings > 0 {
+            println!(
+                "  {} pairs of neighbours on a ray meeting only at a shared edge or vertex not counted (the ray does not decide their order)",
+                r.edge_meetings
+            );
+        }
     }
     if args.fail_on_violation && r.violations > 0 {
         bail!("{} ray-order violations", r.violations);

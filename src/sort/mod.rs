@@ -127,6 +127,16 @@ impl<'m> Sorter<'m> {
     /// when it is valid, else by descending the tree with each tet's centroid), and finds the
     /// boundary faces of the leaves that are not convex. Without a tree there is one leaf.
     pub fn new(mesh: &'m TetMesh, tree: Option<&KdTree>) -> Result<Sorter<'m>> {
+        Sorter::with_welded(mesh, tree, mesh.welded_tets().as_deref())
+    }
+
+    /// [`Sorter::new`] given the mesh's [`TetMesh::welded_tets`] (computed by the caller, who
+    /// also needs them elsewhere).
+    pub fn with_welded(
+        mesh: &'m TetMesh,
+        tree: Option<&KdTree>,
+        welded: Option<&[[u32; 4]]>,
+    ) -> Result<Sorter<'m>> {
         let n = mesh.tets.len();
         if n >= u32::MAX as usize / 4 {
             bail!("{n} tets: too many for 32-bit tet ids");
@@ -143,10 +153,10 @@ impl<'m> Sorter<'m> {
         // Coincident points are one point to the sort: the two copies of a face between
         // pieces stored apart become a shared face (an unwelded mesh of 8,640 tets took 5.8 s
         // and 682,775 extra constraints, its welded twin 0.003 s; mpvo could not order it).
-        let mesh: Cow<'m, TetMesh> = match mesh.welded_tets() {
+        let mesh: Cow<'m, TetMesh> = match welded {
             Some(tets) => Cow::Owned(TetMesh {
                 points: mesh.points.clone(),
-                tets,
+                tets: tets.to_vec(),
                 point_data: Default::default(),
                 cell_data: mesh.cell_data.clone(),
                 field_data: Vec::new(),
