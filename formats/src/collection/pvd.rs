@@ -128,7 +128,18 @@ pub fn read_step(path: &Path, index: usize) -> Result<Grid> {
         };
         read_into(path, &place, &name, &e.file, &chain, &mut blocks)?;
     }
-    merge_blocks(path, blocks)
+    let mut g = merge_blocks(path, blocks)?;
+    // VTK's XML writers record a data set's time as the field array TimeValue; the merged step
+    // says which time it is the same way.
+    if let Some(t) = step.time {
+        g.field_data.retain(|a| a.name != "TimeValue");
+        g.field_data.push(crate::DataArray::new(
+            "TimeValue",
+            1,
+            crate::ArrayData::Float64(vec![t]),
+        ));
+    }
+    Ok(g)
 }
 
 /// Reads the step `sel` names.
