@@ -8,10 +8,11 @@ use quick_xml::events::Event;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// An array a .pvtu declares in `<PPointData>` or `<PCellData>`.
+/// An array a .pvtu declares in `<PPointData>` or `<PCellData>`. Its `type` is not compared with
+/// the pieces': VTK's writer declares vtkIdType arrays as `type="Int32" IdType="1"` over Int64
+/// pieces; the pieces must agree with one another, which merging checks.
 struct Declared {
     name: String,
-    ty: Option<String>,
     components: usize,
 }
 
@@ -103,11 +104,7 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
                                 )
                             })?,
                         };
-                        let d = Declared {
-                            name,
-                            ty: get(b"type")?,
-                            components,
-                        };
+                        let d = Declared { name, components };
                         match section {
                             Section::Point => index.point.push(d),
                             _ => index.cell.push(d),
@@ -153,17 +150,14 @@ fn declared_only(
             ));
         };
         let a = attrs.arrays.swap_remove(i);
-        let ty_differs = d.ty.as_deref().is_some_and(|t| t != a.data.type_name());
-        if ty_differs || a.components != d.components {
+        if a.components != d.components {
             return Err(FormatError::new(
                 crate::Place::Other(format!("piece {piece}")),
                 format!(
-                    "'{}': {what} array '{}' is {} x{} but the .pvtu declares {} x{}",
+                    "'{}': {what} array '{}' has {} components but the .pvtu declares {}",
                     piece_path.display(),
                     a.name,
-                    a.data.type_name(),
                     a.components,
-                    d.ty.as_deref().unwrap_or("?"),
                     d.components
                 ),
             ));
