@@ -91,7 +91,8 @@ impl Format {
 }
 
 /// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
-/// `type="PUnstructuredGrid"` (PVTU), or `# vtk DataFile` (legacy). TetGen files have no magic.
+/// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
+/// (PVD), or `# vtk DataFile` (legacy). TetGen files have no magic.
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
     let head = &bytes[..bytes.len().min(4096)];
     let text = String::from_utf8_lossy(head);
@@ -106,11 +107,11 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
             "vtkMultiGroupDataSet",
         ]
         .iter()
-        .any(|t| text.contains(&format!("\"{t}\"")))
+        .any(|t| text.contains(t))
         {
             return Some(Format::Vtm);
         }
-        if text.contains("type=\"Collection\"") {
+        if text.contains("<Collection") {
             return Some(Format::Pvd);
         }
         if text.contains("PUnstructuredGrid") {

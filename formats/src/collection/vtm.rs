@@ -40,10 +40,8 @@ pub(crate) fn leaves(path: &Path, chain: &Chain, out: &mut Vec<Block>) -> Result
                 let name = block_name(t, next_position(&mut stack));
                 stack.push((name, 0));
             }
-            ("Block" | "Piece", Kind::Close) => {
-                if stack.len() > 1 {
-                    stack.pop();
-                }
+            ("Block" | "Piece", Kind::Close) if stack.len() > 1 => {
+                stack.pop();
             }
             ("DataSet", Kind::Open | Kind::Empty) => {
                 let own = block_name(t, next_position(&mut stack));
