@@ -1,4 +1,5 @@
-//! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen.
+//! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen;
+//! readers for the VTK collections (.vtm, .pvd) that name them.
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the
@@ -6,12 +7,14 @@
 //! place only when complete.
 
 pub mod atomic;
+pub mod collection;
 pub mod error;
 pub mod grid;
 pub mod legacy;
 pub mod tetgen;
 pub mod vtu;
 
+pub use collection::{pvd, vtm};
 pub use error::{FormatError, Place, Result};
 pub use grid::{
     cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, Grid, PolySection, ScalarType,
@@ -31,6 +34,10 @@ pub enum Format {
     Legacy,
     /// TetGen `.node` + `.ele` (+ `.face`, `.neigh`), named by any of them.
     TetGen,
+    /// VTK XML multiblock, `.vtm`, naming data files whose meshes are merged (read only).
+    Vtm,
+    /// ParaView data collection, `.pvd`: a time series of data files (read only).
+    Pvd,
 }
 
 impl Format {
@@ -45,12 +52,14 @@ impl Format {
             "pvtu" => Ok(Format::Pvtu),
             "vtk" => Ok(Format::Legacy),
             "node" | "ele" | "face" | "neigh" => Ok(Format::TetGen),
+            "vtm" => Ok(Format::Vtm),
+            "pvd" => Ok(Format::Pvd),
             "" => Err(FormatError::whole(
-                "no file extension; expected .vtu, .pvtu, .vtk, .node or .ele",
+                "no file extension; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd",
             )
             .with_file(path)),
             other => Err(FormatError::whole(format!(
-                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node or .ele"
+                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd"
             ))
             .with_file(path)),
         }
@@ -63,6 +72,8 @@ impl Format {
             "pvtu" => Some(Format::Pvtu),
             "vtk" | "legacy" => Some(Format::Legacy),
             "tetgen" | "node" | "ele" => Some(Format::TetGen),
+            "vtm" => Some(Format::Vtm),
+            "pvd" => Some(Format::Pvd),
             _ => None,
         }
     }
@@ -73,12 +84,15 @@ impl Format {
             Format::Pvtu => "PVTU",
             Format::Legacy => "legacy VTK",
             Format::TetGen => "TetGen",
+            Format::Vtm => "VTM",
+            Format::Pvd => "PVD",
         }
     }
 }
 
 /// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
-/// `type="PUnstructuredGrid"` (PVTU), or `# vtk DataFile` (legacy). TetGen files have no magic.
+/// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
+/// (PVD), or `# vtk DataFile` (legacy). TetGen files have no magic.
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
     let head = &bytes[..bytes.len().min(4096)];
     let text = String::from_utf8_lossy(head);
@@ -87,6 +101,19 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
         return Some(Format::Legacy);
     }
     if trimmed.starts_with('<') {
+        if [
+            "vtkMultiBlockDataSet",
+            "vtkMultiPieceDataSet",
+            "vtkMultiGroupDataSet",
+        ]
+        .iter()
+        .any(|t| text.contains(t))
+        {
+            return Some(Format::Vtm);
+        }
+        if text.contains("<Collection") {
+            return Some(Format::Pvd);
+        }
         if text.contains("PUnstructuredGrid") {
             return Some(Format::Pvtu);
         }
@@ -142,10 +169,23 @@ fn read_file(path: &Path) -> Result<Vec<u8>> {
     std::fs::read(path).map_err(|e| FormatError::io(path, e))
 }
 
-/// Reads a mesh, choosing the reader by extension and checking the content agrees.
+/// Reads a mesh, choosing the reader by extension and checking the content agrees. A `.pvd`
+/// gives its first time step; `FILE.pvd@K` (or `@last`) step K (see [`pvd::split_selector`]).
 pub fn read(path: &Path) -> Result<Grid> {
+    if let Some((file, sel)) = pvd::split_selector(path) {
+        check_sniff(&file, Format::Pvd, &read_head(&file)?)?;
+        return checked(pvd::read_selected(&file, sel)?, path);
+    }
     let format = Format::from_path(path)?;
     let grid = match format {
+        Format::Vtm => {
+            check_sniff(path, format, &read_head(path)?)?;
+            collection::read_vtm(path)?
+        }
+        Format::Pvd => {
+            check_sniff(path, format, &read_head(path)?)?;
+            pvd::read_step(path, 0)?
+        }
         Format::TetGen => tetgen::read(path)?,
         Format::Pvtu => {
             let bytes = read_file(path)?;
@@ -161,6 +201,10 @@ pub fn read(path: &Path) -> Result<Grid> {
             legacy::read_path(path)?
         }
     };
+    checked(grid, path)
+}
+
+fn checked(grid: Grid, path: &Path) -> Result<Grid> {
     grid.validate()
         .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")).with_file(path))?;
     Ok(grid)
@@ -197,12 +241,12 @@ fn check_sniff(path: &Path, format: Format, bytes: &[u8]) -> Result<()> {
 }
 
 /// Reads a single-file format from memory (stdin, say). `format` `None` sniffs the content.
-/// TetGen and PVTU need sibling files and cannot be read this way.
+/// TetGen, PVTU, VTM and PVD need sibling files and cannot be read this way.
 pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
     let grid = match format {
         Format::Vtu => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
-        Format::Pvtu | Format::TetGen => {
+        Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd => {
             return Err(FormatError::whole(format!(
                 "{} needs files beside it and cannot be read from a stream",
                 format.name()
@@ -218,6 +262,9 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
 /// beside each other (both or neither).
 pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     let format = Format::from_path(path)?;
+    if matches!(format, Format::Vtm | Format::Pvd) {
+        return Err(read_only(format).with_file(path));
+    }
     grid.validate().map_err(|m| {
         FormatError::whole(format!("refusing to write an invalid mesh: {m}")).with_file(path)
     })?;
@@ -229,7 +276,15 @@ pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
             write_to(&mut f, format, grid, opts).map_err(|e| e.with_file(path))?;
             f.commit().map_err(|e| FormatError::io(path, e))
         }
+        Format::Vtm | Format::Pvd => Err(read_only(format).with_file(path)),
     }
+}
+
+fn read_only(format: Format) -> FormatError {
+    FormatError::whole(format!(
+        "tetkit reads {} but does not write it; write .vtu, or .pvtu for pieces",
+        format.name()
+    ))
 }
 
 /// Writes a single-file format to a stream (stdout, say).
@@ -241,5 +296,6 @@ pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOpti
             "{} writes several files and cannot be written to a stream",
             format.name()
         ))),
+        Format::Vtm | Format::Pvd => Err(read_only(format)),
     }
 }

@@ -1,13 +1,14 @@
 //! `tetkit info`: what a mesh file holds.
 
 use clap::Args;
+use formats::pvd;
 use formats::{cell_type, Attributes, DataArray, Grid};
 use serde_json::{json, Value};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele), or - for stdin.
+    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele, .vtm, .pvd or FILE.pvd@STEP), or - for stdin.
     pub input: PathBuf,
     /// Print JSON for scripts.
     #[arg(long)]
@@ -105,15 +106,65 @@ fn print_arrays(title: &str, arrays: &[DataArray], attrs: Option<&Attributes>) {
     }
 }
 
+/// The time steps of a .pvd input (`FILE.pvd` or `FILE.pvd@K`) and the one read, else `None`.
+fn time_steps(input: &Path) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
+    let (file, sel) = match pvd::split_selector(input) {
+        Some((f, s)) => (f, s),
+        None if formats::Format::from_path(input).ok() == Some(formats::Format::Pvd) => {
+            (input.to_path_buf(), pvd::Selector::Index(0))
+        }
+        None => return Ok(None),
+    };
+    let steps = pvd::steps(&file)?;
+    let k = match sel {
+        pvd::Selector::Index(k) => k,
+        pvd::Selector::Last => steps.len() - 1,
+    };
+    Ok(Some((steps, k)))
+}
+
+fn steps_json(steps: &[pvd::Step], read: usize) -> Value {
+    json!({
+        "read": read,
+        "steps": steps.iter().enumerate().map(|(i, s)| json!({
+            "index": i,
+            "time": s.time,
+            "files": s.entries.iter().map(|e| e.file.clone()).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+    })
+}
+
+fn print_steps(input: &Path, steps: &[pvd::Step], read: usize) {
+    let base = pvd::split_selector(input).map_or_else(|| input.to_path_buf(), |(f, _)| f);
+    println!(
+        "time steps: {} (read one with {}@K; this is step {read})",
+        steps.len(),
+        base.display()
+    );
+    for (i, s) in steps.iter().enumerate() {
+        let mark = if i == read { '*' } else { ' ' };
+        let time = s.time.map_or_else(|| "-".to_string(), |t| format!("{t}"));
+        let files: Vec<&str> = s.entries.iter().map(|e| e.file.as_str()).collect();
+        println!("  {mark}{i:>4}  t = {time:<14} {}", files.join(", "));
+    }
+}
+
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
+    let steps = time_steps(&args.input)?;
     let grid = super::read_input(&args.input)?;
     if args.json {
         let mut v = summary(&grid);
         v["file"] = json!(args.input.display().to_string());
+        if let Some((s, k)) = &steps {
+            v["time_steps"] = steps_json(s, *k);
+        }
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
     println!("file:    {}", args.input.display());
+    if let Some((s, k)) = &steps {
+        print_steps(&args.input, s, *k);
+    }
     println!(
         "points:  {} ({})",
         grid.num_points(),

@@ -14,6 +14,7 @@ mod source;
 mod write;
 mod xml;
 
+pub(crate) use read::merge;
 pub use read::{read, read_path};
 pub use write::write;
 

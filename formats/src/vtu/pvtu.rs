@@ -8,11 +8,36 @@ use quick_xml::events::Event;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The `Source` of every `<Piece>` of a .pvtu, in order.
-fn piece_sources(bytes: &[u8]) -> Result<Vec<String>> {
+/// An array a .pvtu declares in `<PPointData>` or `<PCellData>`. Its `type` is not compared with
+/// the pieces': VTK's writer declares vtkIdType arrays as `type="Int32" IdType="1"` over Int64
+/// pieces; the pieces must agree with one another, which merging checks.
+struct Declared {
+    name: String,
+    components: usize,
+}
+
+/// What a .pvtu says: its pieces' `Source`s in order, and the point and cell arrays it declares
+/// (the only ones VTK reads from the pieces).
+#[derive(Default)]
+struct Index {
+    sources: Vec<String>,
+    point: Vec<Declared>,
+    cell: Vec<Declared>,
+}
+
+/// Where a `<PDataArray>` belongs.
+#[derive(Clone, Copy, PartialEq)]
+enum Section {
+    None,
+    Point,
+    Cell,
+}
+
+fn piece_sources(bytes: &[u8]) -> Result<Index> {
     let mut reader = quick_xml::Reader::from_reader(bytes);
     let mut buf = Vec::new();
-    let mut sources = Vec::new();
+    let mut index = Index::default();
+    let mut section = Section::None;
     let mut root_ok = false;
     loop {
         let pos = reader.buffer_position();
@@ -20,11 +45,18 @@ fn piece_sources(bytes: &[u8]) -> Result<Vec<String>> {
         let ev = reader.read_event_into(&mut buf).map_err(|e| {
             FormatError::at_byte(reader.error_position(), format!("malformed XML: {e}"))
         })?;
+        // A self-closing <PPointData/> declares nothing and opens no section.
+        let empty = matches!(ev, Event::Empty(_));
         match ev {
             Event::DocType(_) => return Err(FormatError::at_byte(
                 pos,
                 "a DOCTYPE declaration is not allowed in a VTK file (refused: entity expansion)",
             )),
+            Event::End(e) => {
+                if matches!(e.local_name().as_ref(), b"PPointData" | b"PCellData") {
+                    section = Section::None;
+                }
+            }
             Event::Start(e) | Event::Empty(e) => {
                 let get = |key: &[u8]| -> Result<Option<String>> {
                     for a in e.attributes().with_checks(true) {
@@ -57,7 +89,26 @@ fn piece_sources(bytes: &[u8]) -> Result<Vec<String>> {
                         let src = get(b"Source")?.ok_or_else(|| {
                             FormatError::at_byte(pos, "<Piece> without a Source attribute")
                         })?;
-                        sources.push(src);
+                        index.sources.push(src);
+                    }
+                    b"PPointData" if !empty => section = Section::Point,
+                    b"PCellData" if !empty => section = Section::Cell,
+                    b"PDataArray" if section != Section::None => {
+                        let name = get(b"Name")?.unwrap_or_default();
+                        let components = match get(b"NumberOfComponents")? {
+                            None => 1,
+                            Some(c) => c.trim().parse().map_err(|_| {
+                                FormatError::at_byte(
+                                    pos,
+                                    format!("<PDataArray Name=\"{name}\">: NumberOfComponents '{c}' is not a count"),
+                                )
+                            })?,
+                        };
+                        let d = Declared { name, components };
+                        match section {
+                            Section::Point => index.point.push(d),
+                            _ => index.cell.push(d),
+                        }
                     }
                     _ => {}
                 }
@@ -72,13 +123,82 @@ fn piece_sources(bytes: &[u8]) -> Result<Vec<String>> {
             "no <VTKFile type=\"PUnstructuredGrid\">",
         ));
     }
-    Ok(sources)
+    Ok(index)
+}
+
+/// Keeps of a piece's `attrs` the arrays the .pvtu declares, in its order, as VTK's reader does;
+/// the undeclared ones are added to `dropped` (warned about once, after all pieces).
+fn declared_only(
+    attrs: &mut crate::Attributes,
+    declared: &[Declared],
+    what: &str,
+    piece: usize,
+    piece_path: &Path,
+    dropped: &mut Vec<(String, Vec<usize>)>,
+) -> Result<()> {
+    let mut kept = Vec::with_capacity(declared.len());
+    for d in declared {
+        let Some(i) = attrs.arrays.iter().position(|a| a.name == d.name) else {
+            return Err(FormatError::new(
+                crate::Place::Other(format!("piece {piece}")),
+                format!(
+                    "'{}' has no {what} array '{}', which the .pvtu declares in <P{}Data>",
+                    piece_path.display(),
+                    d.name,
+                    if what == "point" { "Point" } else { "Cell" }
+                ),
+            ));
+        };
+        let a = attrs.arrays.swap_remove(i);
+        if a.components != d.components {
+            return Err(FormatError::new(
+                crate::Place::Other(format!("piece {piece}")),
+                format!(
+                    "'{}': {what} array '{}' has {} components but the .pvtu declares {}",
+                    piece_path.display(),
+                    a.name,
+                    a.components,
+                    d.components
+                ),
+            ));
+        }
+        kept.push(a);
+    }
+    for a in attrs.arrays.drain(..) {
+        match dropped.iter_mut().find(|(n, _)| *n == a.name) {
+            Some((_, pieces)) => pieces.push(piece),
+            None => dropped.push((a.name, vec![piece])),
+        }
+    }
+    attrs.arrays = kept;
+    let names: Vec<&str> = attrs.arrays.iter().map(|a| a.name.as_str()).collect();
+    attrs.active.retain(|(_, n)| names.contains(&n.as_str()));
+    attrs
+        .lookup_tables
+        .retain(|(n, _)| names.contains(&n.as_str()));
+    Ok(())
+}
+
+fn warn_dropped(path: &Path, what: &str, dropped: &[(String, Vec<usize>)]) {
+    for (name, pieces) in dropped {
+        let list: Vec<String> = pieces.iter().map(|p| p.to_string()).collect();
+        eprintln!(
+            "tetkit: warning: {}: {what} array '{name}' of piece {} is not declared in <P{}Data>; dropped, as VTK drops it",
+            path.display(),
+            list.join(", "),
+            if what == "point" { "Point" } else { "Cell" }
+        );
+    }
 }
 
 /// Reads a .pvtu (its bytes already read from `path`) and all its pieces, merged in piece order.
-/// Piece paths are relative to the .pvtu's folder; a missing piece is an error naming it.
+/// Piece paths are relative to the .pvtu's folder; a missing piece is an error naming it. Only
+/// the arrays the .pvtu declares are read, as VTK does: a piece lacking one is refused, and
+/// undeclared ones are dropped with a warning on stderr.
 pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
-    let sources = piece_sources(bytes).map_err(|e| e.with_file(path))?;
+    let index = piece_sources(bytes).map_err(|e| e.with_file(path))?;
+    let sources = &index.sources;
+    let (mut drop_point, mut drop_cell) = (Vec::new(), Vec::new());
     let dir = path.parent().unwrap_or(Path::new(""));
     let mut grids = Vec::with_capacity(sources.len());
     for (i, s) in sources.iter().enumerate() {
@@ -104,8 +224,21 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
             )
             .with_file(path));
         }
-        grids.push(super::read_path(&p)?);
+        let mut g = super::read_path(&p)?;
+        declared_only(
+            &mut g.point_data,
+            &index.point,
+            "point",
+            i,
+            &p,
+            &mut drop_point,
+        )
+        .and_then(|()| declared_only(&mut g.cell_data, &index.cell, "cell", i, &p, &mut drop_cell))
+        .map_err(|e| e.with_file(path))?;
+        grids.push(g);
     }
+    warn_dropped(path, "point", &drop_point);
+    warn_dropped(path, "cell", &drop_cell);
     let field = grids
         .first()
         .map(|g| g.field_data.clone())
