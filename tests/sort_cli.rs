@@ -343,7 +343,10 @@ fn rays_grazing_shared_edges_on_a_symmetry_plane_are_not_violations() {
         }
     }
     // The grazing rays exist (2 pairs front to back at 256x256 when this was written).
-    assert!(met > 0, "no ray grazed a shared edge: the test no longer covers the case");
+    assert!(
+        met > 0,
+        "no ray grazed a shared edge: the test no longer covers the case"
+    );
     let (v, _) = check("centroid", "front-to-back");
     assert!(v > 1000, "centroid: {v} violations");
 }

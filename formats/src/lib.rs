@@ -93,6 +93,34 @@ impl Format {
 /// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
 /// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
 /// (PVD), or `# vtk DataFile` (legacy). TetGen files have no magic.
+/// The `type` attribute of the `<VTKFile ...>` element in `text`, when the element is there.
+fn vtkfile_type(text: &str) -> Option<&str> {
+    let start = text.find("<VTKFile")?;
+    let tag = &text[start..];
+    let tag = &tag[..tag.find('>')?];
+    let mut rest = tag;
+    while let Some(i) = rest.find("type") {
+        let before = rest[..i].chars().last();
+        let after = rest[i + 4..].trim_start();
+        rest = &rest[i + 4..];
+        // `type=` as a whole attribute name (not `byte_order`'s tail or `header_type`).
+        if !matches!(before, Some(c) if c.is_whitespace()) {
+            continue;
+        }
+        let Some(v) = after.strip_prefix('=') else {
+            continue;
+        };
+        let v = v.trim_start();
+        let q = v.chars().next()?;
+        if q != '"' && q != '\'' {
+            return None;
+        }
+        let v = &v[1..];
+        return Some(&v[..v.find(q)?]);
+    }
+    None
+}
+
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
     let head = &bytes[..bytes.len().min(4096)];
     let text = String::from_utf8_lossy(head);
@@ -101,6 +129,19 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
         return Some(Format::Legacy);
     }
     if trimmed.starts_with('<') {
+        // The root's `type` decides: a VTU whose first lines quote another type's name (in a
+        // string array or an information key) is still a VTU.
+        if let Some(t) = vtkfile_type(&text) {
+            return match t {
+                "UnstructuredGrid" => Some(Format::Vtu),
+                "PUnstructuredGrid" => Some(Format::Pvtu),
+                "vtkMultiBlockDataSet" | "vtkMultiPieceDataSet" | "vtkMultiGroupDataSet" => {
+                    Some(Format::Vtm)
+                }
+                "Collection" => Some(Format::Pvd),
+                _ => None,
+            };
+        }
         if [
             "vtkMultiBlockDataSet",
             "vtkMultiPieceDataSet",
@@ -297,5 +338,30 @@ pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOpti
             format.name()
         ))),
         Format::Vtm | Format::Pvd => Err(read_only(format)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sniff_goes_by_the_root_type() {
+        let vtu = br#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+<UnstructuredGrid><FieldData><Array type="String" Name="note">vtkMultiBlockDataSet Collection</Array>"#;
+        assert_eq!(sniff(vtu), Some(Format::Vtu));
+        let vtm = b"<VTKFile byte_order='LittleEndian' type='vtkMultiBlockDataSet'>";
+        assert_eq!(sniff(vtm), Some(Format::Vtm));
+        assert_eq!(
+            sniff(b"<VTKFile type=\"Collection\" version=\"0.1\">"),
+            Some(Format::Pvd)
+        );
+        assert_eq!(
+            sniff(b"<VTKFile type = \"PUnstructuredGrid\">"),
+            Some(Format::Pvtu)
+        );
+        assert_eq!(sniff(b"<VTKFile type=\"PolyData\">"), None);
+        assert_eq!(sniff(b"# vtk DataFile Version 4.2\n"), Some(Format::Legacy));
     }
 }
