@@ -254,6 +254,35 @@ fn convert_file_to_file_and_back() {
     assert_eq!(dir_listing(dir.path()), vec!["l.vtk", "l.vtu"]);
 }
 
+#[test]
+fn convert_takes_the_output_as_o_like_the_other_subcommands() {
+    let dir = tempdir();
+    let input = fixture("gmsh/lshape.vtk");
+    let a = dir.path().join("pos.vtu");
+    let b = dir.path().join("flag.vtu");
+    tetkit(["convert".as_ref(), input.as_os_str(), a.as_os_str()]).assert_success();
+    tetkit([
+        "convert".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        b.as_os_str(),
+    ])
+    .assert_success();
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    // Both at once is ambiguous; neither names nothing to write.
+    let c = dir.path().join("c.vtu");
+    tetkit([
+        "convert".as_ref(),
+        input.as_os_str(),
+        a.as_os_str(),
+        "-o".as_ref(),
+        c.as_os_str(),
+    ])
+    .assert_failure(&["cannot be used with"]);
+    tetkit(["convert".as_ref(), input.as_os_str()]).assert_failure(&["OUTPUT"]);
+    assert_eq!(dir_listing(dir.path()), vec!["flag.vtu", "pos.vtu"]);
+}
+
 // ---------------------------------------------------------------------------------------------
 // errors: exit code, file and place named, no output left behind
 

@@ -35,7 +35,16 @@ pub struct ConvertArgs {
     /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele), or - for stdin (VTU or legacy VTK).
     pub input: PathBuf,
     /// Output mesh; the extension picks the format. - writes to stdout (see --to).
-    pub output: PathBuf,
+    #[arg(value_name = "OUTPUT", required_unless_present = "output_flag")]
+    pub output: Option<PathBuf>,
+    /// The output mesh as an option, as the other subcommands take it (`-o OUT`).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "OUTPUT",
+        conflicts_with = "output"
+    )]
+    pub output_flag: Option<PathBuf>,
     /// VTU: appended raw (ParaView's default), inline base64 binary, or ascii. Legacy: binary or ascii.
     #[arg(long, value_enum, default_value = "appended")]
     pub encoding: EncodingArg,
@@ -76,14 +85,17 @@ impl ConvertArgs {
 }
 
 pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
-    let to_stdout = args.output.as_os_str() == "-";
+    let Some(output) = args.output.as_ref().or(args.output_flag.as_ref()) else {
+        bail!("convert: no output named (give OUTPUT or -o OUTPUT)");
+    };
+    let to_stdout = output.as_os_str() == "-";
     // Decide the output format before reading, so a bad name fails fast and writes nothing.
     let format = if to_stdout {
         Format::from_name(&args.to)
             .filter(|f| matches!(f, Format::Vtu | Format::Legacy))
             .with_context(|| format!("--to {}: stdout takes vtu or vtk", args.to))?
     } else {
-        Format::from_path(&args.output)?
+        Format::from_path(output)?
     };
     let mut grid = super::read_input(&args.input)?;
     if args.tetrahedralize {
@@ -139,7 +151,7 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         if !bad.is_empty() {
             eprintln!(
                 "tetkit: warning: {}: arrays {} hold NaN or infinite values, which VTK 9.1 cannot read from an ascii legacy file (tetkit can); --encoding binary keeps them readable by both",
-                if to_stdout { "<stdout>".to_string() } else { args.output.display().to_string() },
+                if to_stdout { "<stdout>".to_string() } else { output.display().to_string() },
                 bad.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ")
             );
         }
@@ -170,15 +182,15 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         }) {
             bail!(
                 "{}: TetGen files hold tetrahedra and their boundary triangles only, but cell {i} is a {}; add --tetrahedralize",
-                args.output.display(),
+                output.display(),
                 ct::name(grid.cells.types[i])
             );
         }
-        formats::write(&args.output, &grid, &args.write_options())?;
+        formats::write(output, &grid, &args.write_options())?;
         if !lost.is_empty() {
             eprintln!(
                 "tetkit: {}: TetGen files cannot hold {}: not written (use .vtu or .vtk to keep them)",
-                args.output.display(),
+                output.display(),
                 lost.join(", ")
             );
         }
@@ -195,7 +207,7 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
             .context("writing stdout")?;
         return Ok(());
     }
-    formats::write(&args.output, &grid, &opts)?;
+    formats::write(output, &grid, &opts)?;
     Ok(())
 }
 
