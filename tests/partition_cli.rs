@@ -275,3 +275,27 @@ fn mixed_cells_are_tetrahedralized_first() {
         );
     }
 }
+
+#[test]
+fn the_tree_file_is_optional_since_the_split_mesh_holds_the_tree() {
+    let dir = common::tempdir();
+    let out = dir.path().join("s.vtu");
+    let input = common::fixture("gmsh/hexgrid.vtk");
+    common::tetkit([
+        "partition".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--leaves".as_ref(),
+        "4".as_ref(),
+    ])
+    .assert_success();
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, vec!["s.vtu".to_string()]);
+    let g = tetkit::formats::read(&out).unwrap();
+    let tree = KdTree::from_field_data(&g.field_data).unwrap().unwrap();
+    assert_eq!(tree.num_leaves(), 4);
+}

@@ -28,9 +28,10 @@ pub struct PartitionArgs {
     /// The split mesh (.vtu): cell data leaf_id and original_cell_id, the tree in field data.
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
-    /// The tree as one hexahedron per node (.vtu).
+    /// Also the tree as one hexahedron per node (.vtu); the split mesh holds it in field data
+    /// either way.
     #[arg(long)]
-    pub tree: PathBuf,
+    pub tree: Option<PathBuf>,
     /// Split the largest nodes until there are N leaves [default: 8].
     #[arg(long, conflicts_with = "depth")]
     pub leaves: Option<usize>,
@@ -78,7 +79,7 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
     if matches!(args.leaves, Some(0)) {
         bail!("--leaves must be at least 1");
     }
-    for out in [&args.output, &args.tree] {
+    for out in std::iter::once(&args.output).chain(&args.tree) {
         if formats::Format::from_path(out)? != formats::Format::Vtu {
             bail!("{}: partition writes .vtu files", out.display());
         }
@@ -155,8 +156,13 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
     let tree_grid = output::tree_grid(&result.tree);
     let split_grid = result.mesh.to_grid();
     // Both files or neither: a failed second write must not leave the first behind.
-    let targets = [args.tree.clone(), args.output.clone()];
-    let grids = [&tree_grid, &split_grid];
+    let (targets, grids): (Vec<PathBuf>, Vec<&formats::Grid>) = match &args.tree {
+        Some(t) => (
+            vec![t.clone(), args.output.clone()],
+            vec![&tree_grid, &split_grid],
+        ),
+        None => (vec![args.output.clone()], vec![&split_grid]),
+    };
     formats::atomic::write_all_or_none(&targets, |i, w| -> anyhow::Result<()> {
         grids[i].validate().map_err(|m| {
             anyhow::anyhow!(
@@ -169,11 +175,8 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
         Ok(())
     })
     .with_context(|| {
-        format!(
-            "writing {} and {}",
-            args.output.display(),
-            args.tree.display()
-        )
+        let names: Vec<String> = targets.iter().map(|t| t.display().to_string()).collect();
+        format!("writing {}", names.join(" and "))
     })?;
     if let Some(dir) = &args.pieces {
         let stem = args
