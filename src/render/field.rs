@@ -29,10 +29,21 @@ fn values(a: &DataArray) -> Result<Vec<f64>> {
     })
 }
 
+/// Arrays the default `--scalar` passes over (they can still be named).
+const BOOKKEEPING: [&str; 6] = [
+    "original_cell_id",
+    "leaf_id",
+    "vtkGhostType",
+    "vtkOriginalCellIds",
+    "vtkOriginalPointIds",
+    "BlockIdScalars",
+];
+
 impl Field {
     /// The array named `name` (point data first, then cell data; `point:NAME` or `cell:NAME`
     /// for one of two arrays of that name; `coord:x|y|z|r` for a field of the point coordinates), or without a name the active point scalars, else the first numeric
-    /// point array, else the first numeric cell array, else a constant (solid colour).
+    /// point array, else the first numeric cell array (ids in [`BOOKKEEPING`] passed over), else
+    /// a constant (solid colour).
     pub fn select(mesh: &TetMesh, name: Option<&str>) -> Result<(String, Field)> {
         let numeric = |a: &&DataArray| a.data.scalar_type().is_some();
         if let Some(axis) = name.and_then(|n| n.strip_prefix("coord:")) {
@@ -97,10 +108,13 @@ impl Field {
         if let Some(a) = mesh.point_data.active(Attribute::Scalars).filter(numeric) {
             return Ok((a.name.clone(), Field::Point(values(a)?)));
         }
-        if let Some(a) = mesh.point_data.arrays.iter().find(numeric) {
+        // Ids that tetrahedralizing, partitioning or VTK's filters add are bookkeeping, not a
+        // field to look at: a mesh with nothing else is drawn in a solid colour, as ParaView does.
+        let shown = |a: &&DataArray| numeric(a) && !BOOKKEEPING.contains(&a.name.as_str());
+        if let Some(a) = mesh.point_data.arrays.iter().find(shown) {
             return Ok((a.name.clone(), Field::Point(values(a)?)));
         }
-        if let Some(a) = mesh.cell_data.arrays.iter().find(numeric) {
+        if let Some(a) = mesh.cell_data.arrays.iter().find(shown) {
             return Ok((a.name.clone(), Field::Cell(values(a)?)));
         }
         // Nothing to map: ParaView's "Solid Color", a constant field.
@@ -202,5 +216,38 @@ pub fn scalar_offset(range: [f64; 2]) -> f64 {
         range[0]
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use formats::ArrayData;
+
+    fn one_tet() -> TetMesh {
+        TetMesh {
+            points: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            tets: vec![[0, 1, 2, 3]],
+            ..TetMesh::default()
+        }
+    }
+
+    #[test]
+    fn the_default_passes_over_bookkeeping_ids() {
+        let mut m = one_tet();
+        for name in BOOKKEEPING {
+            m.cell_data
+                .insert(DataArray::new(name, 1, ArrayData::Int64(vec![7])));
+        }
+        let (name, f) = Field::select(&m, None).unwrap();
+        assert_eq!(name, "(solid colour)");
+        assert_eq!(f.at(0, &m.tets[0]), [0.0; 4]);
+        // A real array after them is the one drawn, and a named id still is.
+        m.cell_data
+            .insert(DataArray::new("pressure", 1, ArrayData::Float32(vec![2.5])));
+        assert_eq!(Field::select(&m, None).unwrap().0, "pressure");
+        let (name, f) = Field::select(&m, Some("leaf_id")).unwrap();
+        assert_eq!(name, "leaf_id");
+        assert_eq!(f.at(0, &m.tets[0]), [7.0; 4]);
     }
 }
