@@ -1,5 +1,6 @@
 //! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen;
-//! readers for the VTK collections (.vtm, .pvd) that name them.
+//! readers for the VTK collections (.vtm, .pvd) that name them, for VTK's structured data (.vti,
+//! .vtr, .vts and their legacy forms, as voxels and hexahedra) and for polydata (.vtp).
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the
@@ -11,6 +12,7 @@ pub mod collection;
 pub mod error;
 pub mod grid;
 pub mod legacy;
+pub(crate) mod structured;
 pub mod tetgen;
 pub mod vtu;
 
@@ -38,7 +40,18 @@ pub enum Format {
     Vtm,
     /// ParaView data collection, `.pvd`: a time series of data files (read only).
     Pvd,
+    /// VTK XML image data, `.vti`: read as voxels (read only).
+    Vti,
+    /// VTK XML rectilinear grid, `.vtr`: read as voxels (read only).
+    Vtr,
+    /// VTK XML structured (curvilinear) grid, `.vts`: read as hexahedra (read only).
+    Vts,
+    /// VTK XML polydata, `.vtp`: vertices, lines, polygons and strips (read only).
+    Vtp,
 }
+
+/// The extensions [`Format::from_path`] knows, for messages.
+const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .vtm, .pvd, .vti, .vtr, .vts or .vtp";
 
 impl Format {
     /// The format a path's extension names.
@@ -54,12 +67,15 @@ impl Format {
             "node" | "ele" | "face" | "neigh" => Ok(Format::TetGen),
             "vtm" => Ok(Format::Vtm),
             "pvd" => Ok(Format::Pvd),
-            "" => Err(FormatError::whole(
-                "no file extension; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd",
-            )
-            .with_file(path)),
+            "vti" => Ok(Format::Vti),
+            "vtr" => Ok(Format::Vtr),
+            "vts" => Ok(Format::Vts),
+            "vtp" => Ok(Format::Vtp),
+            "" => Err(
+                FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
+            ),
             other => Err(FormatError::whole(format!(
-                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd"
+                "unknown file extension '.{other}'; expected {KNOWN}"
             ))
             .with_file(path)),
         }
@@ -74,8 +90,20 @@ impl Format {
             "tetgen" | "node" | "ele" => Some(Format::TetGen),
             "vtm" => Some(Format::Vtm),
             "pvd" => Some(Format::Pvd),
+            "vti" => Some(Format::Vti),
+            "vtr" => Some(Format::Vtr),
+            "vts" => Some(Format::Vts),
+            "vtp" => Some(Format::Vtp),
             _ => None,
         }
+    }
+
+    /// Formats tetkit reads but does not write.
+    pub fn read_only(self) -> bool {
+        matches!(
+            self,
+            Format::Vtm | Format::Pvd | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp
+        )
     }
 
     pub fn name(self) -> &'static str {
@@ -86,6 +114,10 @@ impl Format {
             Format::TetGen => "TetGen",
             Format::Vtm => "VTM",
             Format::Pvd => "PVD",
+            Format::Vti => "VTI (image data)",
+            Format::Vtr => "VTR (rectilinear grid)",
+            Format::Vts => "VTS (structured grid)",
+            Format::Vtp => "VTP (polydata)",
         }
     }
 }
@@ -139,6 +171,10 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
                     Some(Format::Vtm)
                 }
                 "Collection" => Some(Format::Pvd),
+                "ImageData" => Some(Format::Vti),
+                "RectilinearGrid" => Some(Format::Vtr),
+                "StructuredGrid" => Some(Format::Vts),
+                "PolyData" => Some(Format::Vtp),
                 _ => None,
             };
         }
@@ -233,7 +269,7 @@ pub fn read(path: &Path) -> Result<Grid> {
             check_sniff(path, format, &bytes)?;
             vtu::pvtu::read(path, &bytes)?
         }
-        Format::Vtu => {
+        Format::Vtu | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp => {
             check_sniff(path, format, &read_head(path)?)?;
             vtu::read_path(path)?
         }
@@ -285,7 +321,7 @@ fn check_sniff(path: &Path, format: Format, bytes: &[u8]) -> Result<()> {
 /// TetGen, PVTU, VTM and PVD need sibling files and cannot be read this way.
 pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
     let grid = match format {
-        Format::Vtu => vtu::read(bytes)?,
+        Format::Vtu | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
         Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd => {
             return Err(FormatError::whole(format!(
@@ -303,7 +339,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
 /// beside each other (both or neither).
 pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     let format = Format::from_path(path)?;
-    if matches!(format, Format::Vtm | Format::Pvd) {
+    if format.read_only() {
         return Err(read_only(format).with_file(path));
     }
     grid.validate().map_err(|m| {
@@ -317,7 +353,7 @@ pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
             write_to(&mut f, format, grid, opts).map_err(|e| e.with_file(path))?;
             f.commit().map_err(|e| FormatError::io(path, e))
         }
-        Format::Vtm | Format::Pvd => Err(read_only(format).with_file(path)),
+        _ => Err(read_only(format).with_file(path)),
     }
 }
 
@@ -337,7 +373,7 @@ pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOpti
             "{} writes several files and cannot be written to a stream",
             format.name()
         ))),
-        Format::Vtm | Format::Pvd => Err(read_only(format)),
+        _ => Err(read_only(format)),
     }
 }
 
@@ -361,7 +397,9 @@ mod tests {
             sniff(b"<VTKFile type = \"PUnstructuredGrid\">"),
             Some(Format::Pvtu)
         );
-        assert_eq!(sniff(b"<VTKFile type=\"PolyData\">"), None);
+        assert_eq!(sniff(b"<VTKFile type=\"PolyData\">"), Some(Format::Vtp));
+        assert_eq!(sniff(b"<VTKFile type=\"ImageData\">"), Some(Format::Vti));
+        assert_eq!(sniff(b"<VTKFile type=\"Table\">"), None);
         assert_eq!(sniff(b"# vtk DataFile Version 4.2\n"), Some(Format::Legacy));
     }
 }
