@@ -11,6 +11,7 @@ pub mod collection;
 pub mod error;
 pub mod grid;
 pub mod legacy;
+pub mod medit;
 pub mod tetgen;
 pub mod vtu;
 
@@ -38,6 +39,8 @@ pub enum Format {
     Vtm,
     /// ParaView data collection, `.pvd`: a time series of data files (read only).
     Pvd,
+    /// ASCII Medit (INRIA) `.mesh`, as MMG, TetGen `-g` and Gmsh write it.
+    Medit,
 }
 
 impl Format {
@@ -54,12 +57,17 @@ impl Format {
             "node" | "ele" | "face" | "neigh" => Ok(Format::TetGen),
             "vtm" => Ok(Format::Vtm),
             "pvd" => Ok(Format::Pvd),
+            "mesh" => Ok(Format::Medit),
+            "meshb" => Err(FormatError::whole(
+                "binary Medit (.meshb) is not supported; tetkit reads and writes ASCII .mesh",
+            )
+            .with_file(path)),
             "" => Err(FormatError::whole(
-                "no file extension; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd",
+                "no file extension; expected .vtu, .pvtu, .vtk, .node, .ele, .mesh, .vtm or .pvd",
             )
             .with_file(path)),
             other => Err(FormatError::whole(format!(
-                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd"
+                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node, .ele, .mesh, .vtm or .pvd"
             ))
             .with_file(path)),
         }
@@ -74,6 +82,7 @@ impl Format {
             "tetgen" | "node" | "ele" => Some(Format::TetGen),
             "vtm" => Some(Format::Vtm),
             "pvd" => Some(Format::Pvd),
+            "medit" | "mesh" => Some(Format::Medit),
             _ => None,
         }
     }
@@ -86,6 +95,7 @@ impl Format {
             Format::TetGen => "TetGen",
             Format::Vtm => "VTM",
             Format::Pvd => "PVD",
+            Format::Medit => "Medit",
         }
     }
 }
@@ -121,12 +131,30 @@ fn vtkfile_type(text: &str) -> Option<&str> {
     None
 }
 
+/// Whether the first keyword, past `#` comment lines and whitespace, is Medit's
+/// `MeshVersionFormatted` (any case, as Medit tools accept).
+fn medit_head(text: &str) -> bool {
+    let mut rest = text.trim_start_matches('\u{feff}');
+    loop {
+        rest = rest.trim_start();
+        match rest.strip_prefix('#') {
+            Some(r) => rest = r.split_once('\n').map_or("", |(_, after)| after),
+            None => break,
+        }
+    }
+    let word = rest.split_ascii_whitespace().next().unwrap_or("");
+    word.eq_ignore_ascii_case("MeshVersionFormatted")
+}
+
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
     let head = &bytes[..bytes.len().min(4096)];
     let text = String::from_utf8_lossy(head);
     let trimmed = text.trim_start_matches('\u{feff}').trim_start();
     if trimmed.starts_with("# vtk DataFile") {
         return Some(Format::Legacy);
+    }
+    if medit_head(&text) {
+        return Some(Format::Medit);
     }
     if trimmed.starts_with('<') {
         // The root's `type` decides: a VTU whose first lines quote another type's name (in a
@@ -228,6 +256,11 @@ pub fn read(path: &Path) -> Result<Grid> {
             pvd::read_step(path, 0)?
         }
         Format::TetGen => tetgen::read(path)?,
+        Format::Medit => {
+            let bytes = read_file(path)?;
+            check_sniff(path, format, &bytes)?;
+            medit::read_bytes(&bytes, path)?
+        }
         Format::Pvtu => {
             let bytes = read_file(path)?;
             check_sniff(path, format, &bytes)?;
@@ -287,6 +320,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
     let grid = match format {
         Format::Vtu => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
+        Format::Medit => medit::read_bytes(bytes, Path::new("<input>"))?,
         Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd => {
             return Err(FormatError::whole(format!(
                 "{} needs files beside it and cannot be read from a stream",
@@ -312,9 +346,14 @@ pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     match format {
         Format::TetGen => tetgen::write(path, grid),
         Format::Pvtu => vtu::pvtu::write(path, std::slice::from_ref(grid), opts),
-        Format::Vtu | Format::Legacy => {
+        Format::Vtu | Format::Legacy | Format::Medit => {
             let mut f = atomic::AtomicFile::create(path).map_err(|e| FormatError::io(path, e))?;
-            write_to(&mut f, format, grid, opts).map_err(|e| e.with_file(path))?;
+            match format {
+                // The Medit writer names the file in its warnings about dropped arrays.
+                Format::Medit => medit::write(&mut f, grid, path),
+                _ => write_to(&mut f, format, grid, opts),
+            }
+            .map_err(|e| e.with_file(path))?;
             f.commit().map_err(|e| FormatError::io(path, e))
         }
         Format::Vtm | Format::Pvd => Err(read_only(format).with_file(path)),
@@ -333,6 +372,7 @@ pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOpti
     match format {
         Format::Vtu => vtu::write(w, grid, opts),
         Format::Legacy => legacy::write(w, grid, opts),
+        Format::Medit => medit::write(w, grid, Path::new("<output>")),
         Format::Pvtu | Format::TetGen => Err(FormatError::whole(format!(
             "{} writes several files and cannot be written to a stream",
             format.name()
@@ -363,5 +403,22 @@ mod tests {
         );
         assert_eq!(sniff(b"<VTKFile type=\"PolyData\">"), None);
         assert_eq!(sniff(b"# vtk DataFile Version 4.2\n"), Some(Format::Legacy));
+    }
+
+    #[test]
+    fn medit_is_sniffed_by_its_first_keyword() {
+        assert_eq!(sniff(b"MeshVersionFormatted 2\n"), Some(Format::Medit));
+        assert_eq!(
+            sniff(b"# made by x\n\n  # more\n meshversionformatted\n1"),
+            Some(Format::Medit)
+        );
+        assert_eq!(sniff(b"Dimension 3\nMeshVersionFormatted 2"), None);
+        assert_eq!(
+            Format::from_path(Path::new("a.MESH")).unwrap(),
+            Format::Medit
+        );
+        let e = Format::from_path(Path::new("a.meshb")).unwrap_err();
+        assert!(e.to_string().contains("binary Medit"), "{e}");
+        assert_eq!(Format::from_name("medit"), Some(Format::Medit));
     }
 }
