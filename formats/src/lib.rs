@@ -1,5 +1,5 @@
-//! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen;
-//! readers for the VTK collections (.vtm, .pvd) that name them.
+//! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen,
+//! Medit; readers for the VTK collections (.vtm, .pvd) that name them.
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the

@@ -168,8 +168,8 @@ pub fn dir_listing(dir: &Path) -> Vec<String> {
     v
 }
 
-/// Every mesh under fixtures/ that a reader must accept: `.vtu`, `.pvtu`, `.vtk`, and TetGen
-/// `.ele` files, recursively, sorted. Folders named `hostile` or `bad` (inputs that must be
+/// Every mesh under fixtures/ that a reader must accept: `.vtu`, `.pvtu`, `.vtk`, TetGen `.ele`
+/// and Medit `.mesh` files, recursively, sorted. Folders named `hostile` or `bad` (inputs that must be
 /// refused) and `surfaces` (polydata bodies for scenes, not meshes) are left out.
 pub fn fixture_meshes() -> Vec<PathBuf> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -186,7 +186,7 @@ pub fn fixture_meshes() -> Vec<PathBuf> {
             } else if let Some(ext) = p.extension().and_then(|x| x.to_str()) {
                 if matches!(
                     ext.to_ascii_lowercase().as_str(),
-                    "vtu" | "pvtu" | "vtk" | "ele"
+                    "vtu" | "pvtu" | "vtk" | "ele" | "mesh"
                 ) {
                     out.push(p);
                 }

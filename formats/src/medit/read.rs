@@ -383,11 +383,14 @@ fn finish(s: State) -> Result<Grid> {
             .push(DataArray::new(names::REQUIRED, 1, flags(np, c)));
     }
     let nc = g.cells.len();
-    if s.placed.iter().any(Option::is_some) {
-        g.cell_data
-            .arrays
-            .push(DataArray::new(names::REF, 1, ArrayData::Int32(s.cref)));
+    // Without cells there is nothing to attach cell arrays to (and the writer writes no empty
+    // element sections), so a mesh of vertices reads back the same after a write.
+    if nc == 0 {
+        return Ok(g);
     }
+    g.cell_data
+        .arrays
+        .push(DataArray::new(names::REF, 1, ArrayData::Int32(s.cref)));
     if let Some(c) = &s.ridge {
         g.cell_data
             .arrays

@@ -79,7 +79,7 @@ pub fn write(w: &mut dyn Write, grid: &Grid, label: &Path) -> Result<()> {
             .map(|&(t, c)| format!("{c} {} cells", cell_type::name(t)))
             .collect();
         return Err(FormatError::whole(format!(
-            "Medit files hold vertices, edges, triangles, quadrilaterals, tetrahedra, hexahedra, prisms and pyramids only; this mesh has {} (tetkit convert --tetrahedralize splits 3-D cells into tets)",
+            "Medit files hold edges, triangles, quadrilaterals, tetrahedra, hexahedra, prisms and pyramids only; this mesh has {} (tetkit convert --tetrahedralize splits 3-D cells into tets)",
             list.join(", ")
         )));
     }
@@ -391,6 +391,14 @@ mod tests {
         assert_eq!(b.cells.types, vec![cell_type::HEXAHEDRON, cell_type::QUAD]);
         assert_eq!(b.cells.cell(0), &[0, 1, 3, 2, 4, 5, 7, 6]);
         assert_eq!(b.cells.cell(1), &[0, 1, 3, 2]);
+    }
+
+    #[test]
+    fn vertices_alone_read_back_the_same() {
+        let text = "MeshVersionFormatted 2 Dimension 3 Vertices 1 1 2 3 4 Tetrahedra 0 End";
+        let g = super::super::read_bytes(text.as_bytes(), Path::new("t.mesh")).unwrap();
+        assert!(g.cell_data.arrays.is_empty());
+        assert_eq!(back(&g), g);
     }
 
     #[test]
