@@ -269,3 +269,55 @@ fn a_truncated_fixture_is_refused_with_its_line() {
         "Tetrahedra element 4",
     ]);
 }
+
+/// Gmsh (when installed) reads the .mesh tetkit writes: saved again by Gmsh as .mesh, it holds
+/// the same cells in order (corners at the same places) with the same refs. (Gmsh renumbers
+/// vertices and their refs by entity, and 4.8 reads no prisms or pyramids, so the tet and hex
+/// fixtures are used.)
+#[test]
+fn gmsh_reads_what_tetkit_writes() {
+    let ok = std::process::Command::new("gmsh")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        eprintln!("SKIPPED gmsh_reads_what_tetkit_writes: no gmsh on PATH");
+        return;
+    }
+    let dir = tempdir();
+    for m in ["medit/gmsh_tets.mesh", "medit/gmsh_hex.mesh"] {
+        // Through VTU, so the .mesh is tetkit's own writing, not a copy.
+        let vtu = dir.path().join("a.vtu");
+        let out = dir.path().join("a.mesh");
+        let back = dir.path().join("b.mesh");
+        tetkit(["convert".as_ref(), fixture(m).as_os_str(), vtu.as_os_str()]).assert_success();
+        tetkit(["convert".as_ref(), vtu.as_os_str(), out.as_os_str()]).assert_success();
+        let st = std::process::Command::new("gmsh")
+            .arg("-0")
+            .arg(&out)
+            .args(["-format", "mesh", "-o"])
+            .arg(&back)
+            .output()
+            .unwrap();
+        assert!(st.status.success(), "{m}: gmsh failed: {st:?}");
+        let (a, b) = (read(&out), read(&back));
+        // Gmsh renumbers vertices (grouped by entity) and prints 14 significant digits: compare
+        // each cell's corners by position.
+        assert_eq!(a.num_points(), b.num_points(), "{m}");
+        assert_eq!(a.cells.types, b.cells.types, "{m}");
+        for i in 0..a.num_cells() {
+            for (&x, &y) in a.cells.cell(i).iter().zip(b.cells.cell(i)) {
+                let (p, q) = (a.point(x as usize), b.point(y as usize));
+                assert!(
+                    (0..3).all(|k| (p[k] - q[k]).abs() <= 1e-12),
+                    "{m}: cell {i}: {p:?} vs {q:?}"
+                );
+            }
+        }
+        assert_eq!(
+            ints(&a, true, "medit:ref"),
+            ints(&b, true, "medit:ref"),
+            "{m}"
+        );
+    }
+}
