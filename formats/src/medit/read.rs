@@ -11,8 +11,9 @@ pub fn read(path: &Path) -> Result<Grid> {
     read_bytes(&bytes, path)
 }
 
-/// Sections that carry no mesh (normals, tangents): skipped with a warning. Each record is
-/// `reals` numbers times the dimension (`true`) or `ints` integers.
+/// Sections that carry no mesh (normals, tangents): skipped with a warning. Their records are
+/// vectors (one real per dimension) or tuples of integers (vertex, normal/tangent and element
+/// numbers).
 const SKIPPED: [(&str, Record); 8] = [
     ("Normals", Record::PerDimension),
     ("Tangents", Record::PerDimension),
