@@ -17,8 +17,9 @@
 //! normal towards the apex, then the apex), so their nodes are kept as written. A Medit prism is
 //! Gmsh's reference prism: triangle (1 2 3) turns counter-clockwise seen from triangle (4 5 6);
 //! VTK's wedge (as Gmsh's VTK writer and tetkit's tetrahedralization take it) turns the other
-//! way, so nodes 2 and 3, and 5 and 6, are swapped on reading and on writing. No tool at hand
-//! writes prisms or pyramids to check this against (Gmsh 4.8 drops both from `.mesh` output).
+//! way, so nodes 2 and 3, and 5 and 6, are swapped on reading and on writing (the same swap Gmsh
+//! makes between its prisms and VTK wedges when it writes `.vtk`). No tool at hand writes prisms or
+//! pyramids to `.mesh` to check this against (Gmsh 4.8 drops both from `.mesh` output).
 //!
 //! Writing (`write`): `MeshVersionFormatted 2`, `Dimension 3`, vertices and the cell sections in
 //! the order their types first appear in the grid (so a Medit file read and written keeps its
