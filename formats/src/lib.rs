@@ -1,6 +1,6 @@
-//! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen;
-//! readers for the VTK collections (.vtm, .pvd) that name them, for VTK's structured data (.vti,
-//! .vtr, .vts and their legacy forms, as voxels and hexahedra) and for polydata (.vtp).
+//! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen,
+//! Medit; readers for the VTK collections (.vtm, .pvd) that name them, for VTK's structured data
+//! (.vti, .vtr, .vts and their legacy forms, as voxels and hexahedra) and for polydata (.vtp).
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the
@@ -12,6 +12,7 @@ pub mod collection;
 pub mod error;
 pub mod grid;
 pub mod legacy;
+pub mod medit;
 pub(crate) mod structured;
 pub mod tetgen;
 pub mod vtu;
@@ -48,10 +49,12 @@ pub enum Format {
     Vts,
     /// VTK XML polydata, `.vtp`: vertices, lines, polygons and strips (read only).
     Vtp,
+    /// ASCII Medit (INRIA) `.mesh`, as MMG, TetGen `-g` and Gmsh write it.
+    Medit,
 }
 
 /// The extensions [`Format::from_path`] knows, for messages.
-const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .vtm, .pvd, .vti, .vtr, .vts or .vtp";
+const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .vtm, .pvd, .vti, .vtr, .vts or .vtp";
 
 impl Format {
     /// The format a path's extension names.
@@ -71,6 +74,11 @@ impl Format {
             "vtr" => Ok(Format::Vtr),
             "vts" => Ok(Format::Vts),
             "vtp" => Ok(Format::Vtp),
+            "mesh" => Ok(Format::Medit),
+            "meshb" => Err(FormatError::whole(
+                "binary Medit (.meshb) is not supported; tetkit reads and writes ASCII .mesh",
+            )
+            .with_file(path)),
             "" => Err(
                 FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
             ),
@@ -94,6 +102,7 @@ impl Format {
             "vtr" => Some(Format::Vtr),
             "vts" => Some(Format::Vts),
             "vtp" => Some(Format::Vtp),
+            "medit" | "mesh" => Some(Format::Medit),
             _ => None,
         }
     }
@@ -118,6 +127,7 @@ impl Format {
             Format::Vtr => "VTR (rectilinear grid)",
             Format::Vts => "VTS (structured grid)",
             Format::Vtp => "VTP (polydata)",
+            Format::Medit => "Medit",
         }
     }
 }
@@ -153,12 +163,30 @@ fn vtkfile_type(text: &str) -> Option<&str> {
     None
 }
 
+/// Whether the first keyword, past `#` comment lines and whitespace, is Medit's
+/// `MeshVersionFormatted` (any case, as Medit tools accept).
+fn medit_head(text: &str) -> bool {
+    let mut rest = text.trim_start_matches('\u{feff}');
+    loop {
+        rest = rest.trim_start();
+        match rest.strip_prefix('#') {
+            Some(r) => rest = r.split_once('\n').map_or("", |(_, after)| after),
+            None => break,
+        }
+    }
+    let word = rest.split_ascii_whitespace().next().unwrap_or("");
+    word.eq_ignore_ascii_case("MeshVersionFormatted")
+}
+
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
     let head = &bytes[..bytes.len().min(4096)];
     let text = String::from_utf8_lossy(head);
     let trimmed = text.trim_start_matches('\u{feff}').trim_start();
     if trimmed.starts_with("# vtk DataFile") {
         return Some(Format::Legacy);
+    }
+    if medit_head(&text) {
+        return Some(Format::Medit);
     }
     if trimmed.starts_with('<') {
         // The root's `type` decides: a VTU whose first lines quote another type's name (in a
@@ -264,6 +292,11 @@ pub fn read(path: &Path) -> Result<Grid> {
             pvd::read_step(path, 0)?
         }
         Format::TetGen => tetgen::read(path)?,
+        Format::Medit => {
+            let bytes = read_file(path)?;
+            check_sniff(path, format, &bytes)?;
+            medit::read_bytes(&bytes, path)?
+        }
         Format::Pvtu => {
             let bytes = read_file(path)?;
             check_sniff(path, format, &bytes)?;
@@ -323,6 +356,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
     let grid = match format {
         Format::Vtu | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
+        Format::Medit => medit::read_bytes(bytes, Path::new("<input>"))?,
         Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd => {
             return Err(FormatError::whole(format!(
                 "{} needs files beside it and cannot be read from a stream",
@@ -348,9 +382,14 @@ pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     match format {
         Format::TetGen => tetgen::write(path, grid),
         Format::Pvtu => vtu::pvtu::write(path, std::slice::from_ref(grid), opts),
-        Format::Vtu | Format::Legacy => {
+        Format::Vtu | Format::Legacy | Format::Medit => {
             let mut f = atomic::AtomicFile::create(path).map_err(|e| FormatError::io(path, e))?;
-            write_to(&mut f, format, grid, opts).map_err(|e| e.with_file(path))?;
+            match format {
+                // The Medit writer names the file in its warnings about dropped arrays.
+                Format::Medit => medit::write(&mut f, grid, path),
+                _ => write_to(&mut f, format, grid, opts),
+            }
+            .map_err(|e| e.with_file(path))?;
             f.commit().map_err(|e| FormatError::io(path, e))
         }
         _ => Err(read_only(format).with_file(path)),
@@ -369,6 +408,7 @@ pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOpti
     match format {
         Format::Vtu => vtu::write(w, grid, opts),
         Format::Legacy => legacy::write(w, grid, opts),
+        Format::Medit => medit::write(w, grid, Path::new("<output>")),
         Format::Pvtu | Format::TetGen => Err(FormatError::whole(format!(
             "{} writes several files and cannot be written to a stream",
             format.name()
@@ -401,5 +441,22 @@ mod tests {
         assert_eq!(sniff(b"<VTKFile type=\"ImageData\">"), Some(Format::Vti));
         assert_eq!(sniff(b"<VTKFile type=\"Table\">"), None);
         assert_eq!(sniff(b"# vtk DataFile Version 4.2\n"), Some(Format::Legacy));
+    }
+
+    #[test]
+    fn medit_is_sniffed_by_its_first_keyword() {
+        assert_eq!(sniff(b"MeshVersionFormatted 2\n"), Some(Format::Medit));
+        assert_eq!(
+            sniff(b"# made by x\n\n  # more\n meshversionformatted\n1"),
+            Some(Format::Medit)
+        );
+        assert_eq!(sniff(b"Dimension 3\nMeshVersionFormatted 2"), None);
+        assert_eq!(
+            Format::from_path(Path::new("a.MESH")).unwrap(),
+            Format::Medit
+        );
+        let e = Format::from_path(Path::new("a.meshb")).unwrap_err();
+        assert!(e.to_string().contains("binary Medit"), "{e}");
+        assert_eq!(Format::from_name("medit"), Some(Format::Medit));
     }
 }

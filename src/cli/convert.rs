@@ -32,7 +32,7 @@ pub enum LegacyVersionArg {
 
 #[derive(Args, Debug)]
 pub struct ConvertArgs {
-    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele), or - for stdin (VTU or legacy VTK).
+    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh), or - for stdin (VTU, legacy VTK or Medit).
     pub input: PathBuf,
     /// Output mesh; the extension picks the format. - writes to stdout (see --to).
     #[arg(value_name = "OUTPUT", required_unless_present = "output_flag")]
@@ -57,7 +57,7 @@ pub struct ConvertArgs {
     /// Split hexahedra, wedges, pyramids, voxels and quadratic tets into conforming linear tets.
     #[arg(long)]
     pub tetrahedralize: bool,
-    /// Output format when writing to stdout: vtu or vtk.
+    /// Output format when writing to stdout: vtu, vtk or mesh (Medit).
     #[arg(long, default_value = "vtu")]
     pub to: String,
 }
@@ -92,8 +92,8 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
     // Decide the output format before reading, so a bad name fails fast and writes nothing.
     let format = if to_stdout {
         Format::from_name(&args.to)
-            .filter(|f| matches!(f, Format::Vtu | Format::Legacy))
-            .with_context(|| format!("--to {}: stdout takes vtu or vtk", args.to))?
+            .filter(|f| matches!(f, Format::Vtu | Format::Legacy | Format::Medit))
+            .with_context(|| format!("--to {}: stdout takes vtu, vtk or mesh", args.to))?
     } else {
         Format::from_path(output)?
     };

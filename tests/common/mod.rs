@@ -169,7 +169,8 @@ pub fn dir_listing(dir: &Path) -> Vec<String> {
 }
 
 /// Every mesh under fixtures/ that a reader must accept: `.vtu`, `.pvtu`, `.vtk`, structured
-/// `.vti`/`.vtr`/`.vts`, and TetGen `.ele` files, recursively, sorted. Folders named `hostile` or `bad` (inputs that must be
+/// `.vti`/`.vtr`/`.vts`, TetGen `.ele` and Medit `.mesh` files, recursively, sorted. Folders named
+/// `hostile` or `bad` (inputs that must be
 /// refused) and `surfaces` (polydata bodies for scenes, not meshes) are left out.
 pub fn fixture_meshes() -> Vec<PathBuf> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -186,7 +187,7 @@ pub fn fixture_meshes() -> Vec<PathBuf> {
             } else if let Some(ext) = p.extension().and_then(|x| x.to_str()) {
                 if matches!(
                     ext.to_ascii_lowercase().as_str(),
-                    "vtu" | "pvtu" | "vtk" | "ele" | "vti" | "vtr" | "vts"
+                    "vtu" | "pvtu" | "vtk" | "ele" | "mesh" | "vti" | "vtr" | "vts"
                 ) {
                     out.push(p);
                 }
