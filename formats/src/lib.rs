@@ -11,6 +11,7 @@ pub mod collection;
 pub mod error;
 pub mod grid;
 pub mod legacy;
+pub mod msh;
 pub mod tetgen;
 pub mod vtu;
 
@@ -38,6 +39,8 @@ pub enum Format {
     Vtm,
     /// ParaView data collection, `.pvd`: a time series of data files (read only).
     Pvd,
+    /// Gmsh mesh, `.msh` (MSH 4.1 and 2.2; read only).
+    Msh,
 }
 
 impl Format {
@@ -54,12 +57,13 @@ impl Format {
             "node" | "ele" | "face" | "neigh" => Ok(Format::TetGen),
             "vtm" => Ok(Format::Vtm),
             "pvd" => Ok(Format::Pvd),
+            "msh" => Ok(Format::Msh),
             "" => Err(FormatError::whole(
-                "no file extension; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd",
+                "no file extension; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm, .pvd or .msh",
             )
             .with_file(path)),
             other => Err(FormatError::whole(format!(
-                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm or .pvd"
+                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm, .pvd or .msh"
             ))
             .with_file(path)),
         }
@@ -74,6 +78,7 @@ impl Format {
             "tetgen" | "node" | "ele" => Some(Format::TetGen),
             "vtm" => Some(Format::Vtm),
             "pvd" => Some(Format::Pvd),
+            "msh" | "gmsh" => Some(Format::Msh),
             _ => None,
         }
     }
@@ -86,13 +91,15 @@ impl Format {
             Format::TetGen => "TetGen",
             Format::Vtm => "VTM",
             Format::Pvd => "PVD",
+            Format::Msh => "Gmsh MSH",
         }
     }
 }
 
 /// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
 /// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
-/// (PVD), or `# vtk DataFile` (legacy). TetGen files have no magic.
+/// (PVD), `# vtk DataFile` (legacy), or `$MeshFormat` (Gmsh; `$NOD`, MSH 1, too, so that its
+/// reader can refuse it by name). TetGen files have no magic.
 /// The `type` attribute of the `<VTKFile ...>` element in `text`, when the element is there.
 fn vtkfile_type(text: &str) -> Option<&str> {
     let start = text.find("<VTKFile")?;
@@ -127,6 +134,9 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
     let trimmed = text.trim_start_matches('\u{feff}').trim_start();
     if trimmed.starts_with("# vtk DataFile") {
         return Some(Format::Legacy);
+    }
+    if trimmed.starts_with("$MeshFormat") || trimmed.starts_with("$NOD") {
+        return Some(Format::Msh);
     }
     if trimmed.starts_with('<') {
         // The root's `type` decides: a VTU whose first lines quote another type's name (in a
@@ -241,6 +251,10 @@ pub fn read(path: &Path) -> Result<Grid> {
             check_sniff(path, format, &read_head(path)?)?;
             legacy::read_path(path)?
         }
+        Format::Msh => {
+            check_sniff(path, format, &read_head(path)?)?;
+            msh::read_path(path)?
+        }
     };
     checked(grid, path)
 }
@@ -287,6 +301,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
     let grid = match format {
         Format::Vtu => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
+        Format::Msh => msh::read_from(bytes, None)?,
         Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd => {
             return Err(FormatError::whole(format!(
                 "{} needs files beside it and cannot be read from a stream",
@@ -303,7 +318,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
 /// beside each other (both or neither).
 pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     let format = Format::from_path(path)?;
-    if matches!(format, Format::Vtm | Format::Pvd) {
+    if matches!(format, Format::Vtm | Format::Pvd | Format::Msh) {
         return Err(read_only(format).with_file(path));
     }
     grid.validate().map_err(|m| {
@@ -317,7 +332,7 @@ pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
             write_to(&mut f, format, grid, opts).map_err(|e| e.with_file(path))?;
             f.commit().map_err(|e| FormatError::io(path, e))
         }
-        Format::Vtm | Format::Pvd => Err(read_only(format).with_file(path)),
+        Format::Vtm | Format::Pvd | Format::Msh => Err(read_only(format).with_file(path)),
     }
 }
 
@@ -337,7 +352,7 @@ pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOpti
             "{} writes several files and cannot be written to a stream",
             format.name()
         ))),
-        Format::Vtm | Format::Pvd => Err(read_only(format)),
+        Format::Vtm | Format::Pvd | Format::Msh => Err(read_only(format)),
     }
 }
 
