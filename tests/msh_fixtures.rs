@@ -405,3 +405,14 @@ fn refusals_name_file_and_place() {
     tetkit(["convert".as_ref(), src.as_os_str(), out.as_os_str()])
         .assert_failure(&["does not write"]);
 }
+
+#[test]
+fn stdin_is_sniffed_as_msh() {
+    let bytes = std::fs::read(fixture("msh/block_hole_22_bin.msh")).unwrap();
+    let run = tetkit_stdin(["info", "--json", "-"], &bytes);
+    run.assert_success();
+    let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(v["points"], 141, "{v}");
+    let run = tetkit_stdin(["info", "-"], b"$MeshFormat\n4.0 0 8\n$EndMeshFormat\n");
+    run.assert_failure(&["<stdin>: line 2:", "MSH version 4.0"]);
+}

@@ -11,7 +11,7 @@ use crate::scene::{self, code_string, merge, ray};
 
 #[derive(Args, Debug)]
 pub struct ClassifyArgs {
-    /// Input tet mesh (.vtu, .vtk, .node/.ele).
+    /// Input tet mesh (.vtu, .vtk, .node/.ele, .msh).
     pub input: PathBuf,
     /// Scene file (TOML) with the bodies.
     #[arg(long)]

@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele, .vtm, .pvd or FILE.pvd@STEP), or - for stdin.
+    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele, .msh, .vtm, .pvd or FILE.pvd@STEP), or - for
+    /// stdin.
     pub input: PathBuf,
     /// Print JSON for scripts.
     #[arg(long)]
