@@ -51,10 +51,9 @@ struct Header {
 
 fn header(c: &mut Cursor<'_>, kind: DataKind) -> Result<Header> {
     let sec = kind.section();
-    // The tags are text even in binary files.
-    let binary = std::mem::replace(&mut c.binary, false);
+    // The tags are text even in binary files (errors there still give byte offsets).
     let at = c.pos;
-    let result = (|| {
+    let h = {
         let ns = c.ascii_count(&format!("the number of string tags of ${sec}"))?;
         let mut name = None;
         for _ in 0..ns {
@@ -81,23 +80,31 @@ fn header(c: &mut Cursor<'_>, kind: DataKind) -> Result<Header> {
                 ),
             ));
         }
+        // Gmsh writes 1 (scalar), 3 (vector) or 9 (tensor); the bound also keeps a NaN-filled
+        // array over every node from growing with a corrupt count.
         let components = usize::try_from(ints[1])
             .ok()
-            .filter(|&n| n > 0 && n <= 1 << 16)
-            .ok_or_else(|| c.err_at(at, format!("${sec} has {} components", ints[1])))?;
+            .filter(|&n| (1..=9).contains(&n))
+            .ok_or_else(|| {
+                c.err_at(
+                    at,
+                    format!("${sec} has {} components; Gmsh writes 1 to 9", ints[1]),
+                )
+            })?;
         let count = u64::try_from(ints[2])
             .map_err(|_| c.err_at(at, format!("${sec} counts {} entities", ints[2])))?;
-        Ok(Header {
-            name: name.unwrap_or_default(),
+        Header {
+            // A view without a name still needs one to be an array.
+            name: name
+                .filter(|n| !n.is_empty())
+                .unwrap_or_else(|| "view".into()),
             time: time.unwrap_or(0.0),
             step: ints[0],
             components,
             count,
-        })
-    })();
-    c.binary = binary;
-    let h = result?;
-    if binary {
+        }
+    };
+    if c.binary {
         c.end_line()?;
     }
     Ok(h)

@@ -7,11 +7,8 @@ use crate::Result;
 
 /// The count line that opens both sections: text even in binary files.
 fn count_line(c: &mut Cursor<'_>, what: &str) -> Result<u64> {
-    let binary = std::mem::replace(&mut c.binary, false);
-    let n = c.ascii_count(what);
-    c.binary = binary;
-    let n = n?;
-    if binary {
+    let n = c.ascii_count(what)?;
+    if c.binary {
         c.end_line()?;
     }
     Ok(n)

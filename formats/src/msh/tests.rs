@@ -605,3 +605,51 @@ fn format_plumbing() {
     let e = crate::write(Path::new("/nonexistent/x.msh"), &g, &Default::default()).unwrap_err();
     assert!(e.to_string().contains("does not write it"), "{e}");
 }
+
+#[test]
+fn view_headers_are_checked() {
+    let e = err(&replace(V41, "0\n3\n1\n2 1 2 3", "0\n10\n1\n2 1 2 3"));
+    assert!(
+        e.to_string()
+            .contains("$ElementData has 10 components; Gmsh writes 1 to 9"),
+        "{e}"
+    );
+    let e = err(&replace(V41, "3\n4\n1\n1\n20 7", "2\n4\n1\n20 7"));
+    assert!(
+        e.to_string()
+            .contains("$NodeData has 2 integer tags; it needs 3"),
+        "{e}"
+    );
+    // A view without a string tag is named `view`.
+    let g = read(&replace(V41, "1\n\"flux\"\n", "0\n")).unwrap();
+    assert_eq!(g.cell_data.get("view").unwrap().components, 3);
+    // A view before the mesh it refers to is refused.
+    let e =
+        err(b"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$NodeData\n0\n0\n3\n0\n1\n0\n$EndNodeData\n");
+    assert!(
+        e.to_string()
+            .contains("$NodeData before the $Nodes section"),
+        "{e}"
+    );
+}
+
+#[test]
+fn corrupt_bytes_give_errors_not_panics() {
+    for text in [
+        V41.as_bytes().to_vec(),
+        V22.as_bytes().to_vec(),
+        v41_binary(false, 8),
+        v41_binary(true, 4),
+        v22_binary(false),
+    ] {
+        for i in 0..text.len() {
+            for b in [b'9', b'-', b' ', b'\n', b'$', 0xff, 0x7f, 0] {
+                let mut t = text.clone();
+                t[i] = b;
+                if let Ok(g) = read(&t) {
+                    g.validate().unwrap();
+                }
+            }
+        }
+    }
+}
