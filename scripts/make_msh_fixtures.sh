@@ -7,6 +7,9 @@
 #               "hole" and "outside" (surfaces): MSH 4.1 and 2.2, ASCII and binary
 #   mixed_41.msh          a quarter ring swept from a quad-dominant face: hexahedra, prisms (the
 #                         triangles) and pyramids (where a triangle touches the axis)
+#   params_41.msh, params_41_bin.msh
+#                         mixed_41 with parametric coordinates (Mesh.SaveParametric): u on
+#                         curves, u and v on surfaces
 #   mixed_o2_41.msh       the same at order 2 (27-node hexahedra, 18-node prisms, 14-node pyramids)
 #   mixed_o2i_22_bin.msh  order 2 incomplete (20-node hexahedra, 15-node prisms, 13-node
 #                         pyramids), MSH 2.2 binary
@@ -97,6 +100,8 @@ run block_hole block_hole.vtk -format vtk
 vtk block_hole.vtk block_hole
 run mixed mixed_41.msh -format msh41
 run mixed mixed.vtk -format vtk
+run mixed params_41.msh -format msh41 -setnumber Mesh.SaveParametric 1
+run mixed params_41_bin.msh -format msh41 -bin -setnumber Mesh.SaveParametric 1
 vtk mixed.vtk mixed
 run mixed mixed_o2_41.msh -format msh41 -order 2
 run mixed mixed_o2.vtk -format vtk -order 2
@@ -107,8 +112,8 @@ vtk mixed_o2i.vtk mixed_o2i
 run tet_o2 tet_o2_41_bin.msh -format msh41 -bin
 run tet_o2 tet_o2.vtk -format vtk
 vtk tet_o2.vtk tet_o2
-for f in block_hole_41 block_hole_41_bin block_hole_22 block_hole_22_bin mixed_41 mixed_o2_41 \
-  mixed_o2i_22_bin tet_o2_41_bin; do
+for f in block_hole_41 block_hole_41_bin block_hole_22 block_hole_22_bin mixed_41 params_41 \
+  params_41_bin mixed_o2_41 mixed_o2i_22_bin tet_o2_41_bin; do
   cp "$work/$f.msh" "$out/$f.msh"
 done
 

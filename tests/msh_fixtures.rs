@@ -16,7 +16,7 @@ fn msh_fixtures() -> Vec<PathBuf> {
         .filter(|p| p.extension().is_some_and(|x| x == "msh"))
         .collect();
     v.sort();
-    assert!(v.len() >= 9, "{v:?}");
+    assert!(v.len() >= 11, "{v:?}");
     v
 }
 
@@ -52,20 +52,33 @@ fn info_and_convert_every_fixture() {
     }
 }
 
-/// Bit-identical grids, except that Gmsh prints ASCII coordinates with 16 significant digits,
-/// which does not always give back the double its binary files hold: points agree to 1e-15.
+/// Bit-identical grids, except that Gmsh prints ASCII reals with 16 significant digits, which
+/// does not always give back the double its binary files hold: points and parametric
+/// coordinates agree to 1e-15 (NaN where the other has NaN).
 fn same_grid_but_ascii_rounding(a: &Grid, b: &Grid) -> Result<(), String> {
-    let (pa, pb) = (a.points_f64(), b.points_f64());
-    if pa.len() != pb.len() {
-        return Err(format!("{} points vs {}", pa.len(), pb.len()));
-    }
-    for (i, (p, q)) in pa.iter().zip(&pb).enumerate() {
-        if (0..3).any(|k| (p[k] - q[k]).abs() > 1e-15 * p[k].abs().max(1.0)) {
-            return Err(format!("point {i}: {p:?} vs {q:?}"));
+    let close = |what: &str, x: &ArrayData, y: &ArrayData| -> Result<(), String> {
+        let (x, y) = (x.to_f64_vec(), y.to_f64_vec());
+        if x.len() != y.len() {
+            return Err(format!("{what}: {} values vs {}", x.len(), y.len()));
         }
-    }
+        for (i, (p, q)) in x.iter().zip(&y).enumerate() {
+            let same = (p.is_nan() && q.is_nan()) || (p - q).abs() <= 1e-15 * p.abs().max(1.0);
+            if !same {
+                return Err(format!("{what} value {i}: {p} vs {q}"));
+            }
+        }
+        Ok(())
+    };
     let mut b = b.clone();
+    close("points", &a.points.data, &b.points.data)?;
     b.points = a.points.clone();
+    if let (Some(x), Some(y)) = (
+        a.point_data.get("gmsh:parametric"),
+        b.point_data.get_mut("gmsh:parametric"),
+    ) {
+        close("gmsh:parametric", &x.data, &y.data)?;
+        y.data = x.data.clone();
+    }
     grids_bit_equal(a, &b)
 }
 
@@ -75,12 +88,34 @@ fn ascii_and_binary_give_identical_grids() {
     for (a, b) in [
         ("block_hole_41", "block_hole_41_bin"),
         ("block_hole_22", "block_hole_22_bin"),
+        ("params_41", "params_41_bin"),
     ] {
         same_grid_but_ascii_rounding(&g(a), &g(b)).unwrap_or_else(|e| panic!("{a} vs {b}: {e}"));
     }
     // 4.1 and 2.2 hold the same mesh; 2.2 has no entities, so the data must agree too.
     let (v4, v2) = (g("block_hole_41_bin"), g("block_hole_22_bin"));
     grids_bit_equal(&v4, &v2).unwrap();
+}
+
+#[test]
+fn parametric_coordinates_as_gmsh_saves_them() {
+    let g = read(&fixture("msh/params_41_bin.msh"));
+    let p = g.point_data.get("gmsh:parametric").unwrap();
+    assert_eq!(p.components, 3);
+    let v = p.data.to_f64_vec();
+    // Corner nodes and volume nodes have none; curve nodes u; surface nodes u and v.
+    let count = |k: usize| {
+        (0..g.num_points())
+            .filter(|&i| !v[3 * i + k].is_nan())
+            .count()
+    };
+    let (u, vv, w) = (count(0), count(1), count(2));
+    assert!(u > vv && vv > 0 && w == 0, "u {u}, v {vv}, w {w}");
+    assert!(u < g.num_points());
+    // The same mesh without them has the same points and cells.
+    let plain = read(&fixture("msh/mixed_41.msh"));
+    assert!(plain.point_data.get("gmsh:parametric").is_none());
+    assert_eq!(plain.cells, g.cells);
 }
 
 #[test]

@@ -1,5 +1,4 @@
-//! What the section readers collect (nodes by tag, elements, physical names, data views) and how
-//! it becomes a [`Grid`].
+//! What the section readers collect (nodes by tag, elements, names, views), made into a Grid.
 
 use super::cursor::Cursor;
 use super::types::ElementType;

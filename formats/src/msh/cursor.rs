@@ -1,5 +1,4 @@
-//! A read position in an MSH file that reads both its ASCII tokens and its binary values, and
-//! words errors with the line (ASCII files) or byte offset (binary files) of the place.
+//! The read position in an MSH file: ASCII tokens, binary values, and errors at a line or byte.
 
 use crate::FormatError;
 use std::path::Path;

@@ -1,5 +1,4 @@
-//! Sections both versions share: `$PhysicalNames` and the data views `$NodeData`,
-//! `$ElementData` (kept as arrays) and `$ElementNodeData` (skipped).
+//! Sections both versions share: `$PhysicalNames` and the data views (`$NodeData`, ...).
 
 use super::build::{count_usize, to_i32, Builder};
 use super::cursor::Cursor;

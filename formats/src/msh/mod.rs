@@ -1,19 +1,4 @@
-//! Gmsh `.msh` meshes (MSH 4.1 and 2.2, ASCII and binary), read into a [`Grid`] (read only).
-//!
-//! Points are the nodes in file order, with their tags in the Int64 point array
-//! `gmsh:node_tag` (tags may be sparse) and, when a node block carries them, parametric
-//! coordinates in the 3-component Float64 point array `gmsh:parametric` (NaN where a node has
-//! none). Elements of types 1-19 (points to pyramids, up to order 2) become cells of the
-//! matching VTK type with Gmsh's node order mapped to VTK's (prisms are mirrored, as VTK's
-//! wedge turns the other way; a 14-node pyramid loses its base centre, with a warning). Cell
-//! arrays: `gmsh:physical` (Int32, the first physical group, 0 for none), `gmsh:geometrical`
-//! (Int32, the elementary entity) and `gmsh:element_tag` (Int64). `$PhysicalNames` becomes the
-//! field data `gmsh:physical_names` (String), `gmsh:physical_dims` and `gmsh:physical_tags`
-//! (Int32). `$NodeData` and `$ElementData` views become Float64 point and cell arrays named by
-//! the view (the first time step met as NAME, later ones NAME@STEP; NaN where the view gives no
-//! value), with their times in the field data `gmsh:time:NAME`. `$ElementNodeData` is skipped
-//! with a warning; unknown sections are skipped. MSH 1, 3 and 4.0 and elements of order 3 or
-//! more are refused with an error that says so.
+//! Gmsh `.msh` meshes (MSH 4.1 and 2.2, ASCII and binary) read into a [`Grid`]; read only.
 
 mod build;
 mod cursor;
@@ -45,13 +30,28 @@ pub(crate) fn warn(msg: &str) {
     eprintln!("tetkit: warning: {msg}");
 }
 
-/// Reads a `.msh` file.
+/// Reads a `.msh` file (see [`read_from`] for what the grid holds).
 pub fn read_path(path: &Path) -> Result<Grid> {
     let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
     read_from(&bytes, Some(path))
 }
 
 /// Reads `.msh` content from memory; `path`, when given, names it in errors.
+///
+/// Points are the nodes in file order, with their tags in the Int64 point array
+/// `gmsh:node_tag` (tags may be sparse) and, when a node block carries them, parametric
+/// coordinates in the 3-component Float64 point array `gmsh:parametric` (NaN where a node has
+/// none). Elements of types 1-19 (points to pyramids, up to order 2) become cells of the
+/// matching VTK type with Gmsh's node order mapped to VTK's (prisms are mirrored, as VTK's
+/// wedge turns the other way; a 14-node pyramid loses its base centre, with a warning). Cell
+/// arrays: `gmsh:physical` (Int32, the first physical group, 0 for none), `gmsh:geometrical`
+/// (Int32, the elementary entity) and `gmsh:element_tag` (Int64). `$PhysicalNames` becomes the
+/// field data `gmsh:physical_names` (String), `gmsh:physical_dims` and `gmsh:physical_tags`
+/// (Int32). `$NodeData` and `$ElementData` views become Float64 point and cell arrays named by
+/// the view (the first time step met as NAME, later ones NAME@STEP; NaN where the view gives no
+/// value), with their times in the field data `gmsh:time:NAME`. `$ElementNodeData` is skipped
+/// with a warning; unknown sections are skipped. MSH 1, 3 and 4.0 and elements of order 3 or
+/// more are refused with an error that says so.
 pub fn read_from(bytes: &[u8], path: Option<&Path>) -> Result<Grid> {
     let mut c = Cursor::new(bytes, path);
     let version = mesh_format(&mut c)?;
