@@ -52,6 +52,10 @@ pub fn read_path(path: &Path) -> Result<Grid> {
 /// value), with their times in the field data `gmsh:time:NAME`. `$ElementNodeData` is skipped
 /// with a warning; unknown sections are skipped. MSH 1, 3 and 4.0 and elements of order 3 or
 /// more are refused with an error that says so.
+///
+/// MSH 2.2 has no entities: each element carries its physical and elementary tags, and Gmsh
+/// writes an element that is in several physical groups once per group, under new element tags;
+/// those copies stay separate cells.
 pub fn read_from(bytes: &[u8], path: Option<&Path>) -> Result<Grid> {
     let mut c = Cursor::new(bytes, path);
     let version = mesh_format(&mut c)?;
