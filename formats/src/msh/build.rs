@@ -5,30 +5,10 @@ use super::types::ElementType;
 use super::{names, warn};
 use crate::{ArrayData, Cells, DataArray, Grid, Result};
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
-/// Tags are integers chosen by Gmsh, not by an adversary who could exploit a weak hash; a
-/// multiplicative hash is several times faster than SipHash on millions of node lookups.
-#[derive(Default)]
-pub(crate) struct TagHasher(u64);
-
-impl Hasher for TagHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        }
-    }
-    fn write_i64(&mut self, v: i64) {
-        self.0 = (v as u64)
-            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-            .rotate_left(29);
-    }
-}
-
-pub(crate) type TagMap = HashMap<i64, u32, BuildHasherDefault<TagHasher>>;
+/// Node or element tag to point or cell index. Std's hasher: a file's tags may be chosen to
+/// collide under a simple one, and hashing is a small part of reading.
+pub(crate) type TagMap = HashMap<i64, u32>;
 
 /// One data view (`$NodeData` or `$ElementData`) of one time step, over all nodes (elements).
 pub(crate) struct View {
@@ -314,8 +294,4 @@ pub(crate) fn tag_i64(c: &Cursor<'_>, at: usize, v: u64, what: &str) -> Result<i
 
 pub(crate) fn to_i32(c: &Cursor<'_>, at: usize, v: i64, what: &str) -> Result<i32> {
     i32::try_from(v).map_err(|_| c.err_at(at, format!("{what} {v} does not fit 32 bits")))
-}
-
-pub(crate) fn count_usize(c: &Cursor<'_>, at: usize, v: u64, what: &str) -> Result<usize> {
-    usize::try_from(v).map_err(|_| c.err_at(at, format!("{what} {v} is too large")))
 }

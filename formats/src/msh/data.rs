@@ -1,6 +1,6 @@
 //! Sections both versions share: `$PhysicalNames` and the data views (`$NodeData`, ...).
 
-use super::build::{count_usize, to_i32, Builder};
+use super::build::{to_i32, Builder};
 use super::cursor::Cursor;
 use super::warn;
 use crate::Result;
@@ -134,18 +134,16 @@ pub(crate) fn data(c: &mut Cursor<'_>, b: &mut Builder, kind: DataKind) -> Resul
             c.int("an element tag")?;
             let at = c.pos;
             let n = c.int("the number of nodes of an element")?;
+            // Gmsh's largest elements (order 10 hexahedra) have 1331 nodes.
             let n = usize::try_from(n)
                 .ok()
-                .filter(|&n| n <= 1000)
+                .filter(|&n| n <= 2000)
                 .ok_or_else(|| c.err_at(at, format!("{n} nodes per element")))?;
             for _ in 0..n * h.components {
                 c.real("a value")?;
             }
         }
         return c.expect_end(sec);
-    }
-    if kind == DataKind::Element {
-        b.element_index();
     }
     let on_points = kind == DataKind::Node;
     let comps = h.components;
@@ -175,7 +173,7 @@ pub(crate) fn data(c: &mut Cursor<'_>, b: &mut Builder, kind: DataKind) -> Resul
                     ),
                 ));
             };
-            let i = count_usize(c, at, u64::from(i), "index")?;
+            let i = i as usize;
             for k in 0..comps {
                 values[i * comps + k] = c.real("a value")?;
             }
