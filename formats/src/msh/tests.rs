@@ -653,3 +653,105 @@ fn corrupt_bytes_give_errors_not_panics() {
         }
     }
 }
+
+/// Every other refusal, each from a one-place change to a valid file: (file, from, to, message).
+#[test]
+fn every_other_refusal_names_what_was_wrong() {
+    let cases: &[(&str, &str, &str, &str)] = &[
+        (
+            V22,
+            "$EndMeshFormat\n",
+            "$EndMeshFormat\n$MeshFormat\n",
+            "a second $MeshFormat section",
+        ),
+        (
+            V22,
+            "$EndNodes\n",
+            "$EndNodes\n$Nodes\n0\n$EndNodes\n",
+            "a second $Nodes section",
+        ),
+        (
+            V22,
+            "$Nodes\n",
+            "Nodes\n",
+            "expected a section ($Nodes, $Elements, ...), found 'Nodes'",
+        ),
+        (
+            V22,
+            "$Nodes\n",
+            "$Nodes extra\n",
+            "unexpected text at the end of the line",
+        ),
+        (
+            V22,
+            "2 1 0 0",
+            "2147483648 1 0 0",
+            "a node number 2147483648 does not fit 32 bits",
+        ),
+        (V22, "1 4 2 9 5", "1 4 2000 9 5", "element 1 has 2000 tags"),
+        (
+            V41,
+            "\"skin\"",
+            "\"skin",
+            "has no closing quote on its line",
+        ),
+        (
+            V41,
+            "3 0 0 0 1 1 1 1 7 0",
+            "3 0 0 0 1 1 1 99999 7 0",
+            "99999 physical tags cannot fit",
+        ),
+        (
+            V41,
+            "2 9 11 1 3",
+            "2 9 11 99999 3",
+            "99999 bounding entities cannot fit",
+        ),
+        (
+            V41,
+            "3 5 0 4\n",
+            "4 5 0 4\n",
+            "node block of dimension 4 with parametric flag 0",
+        ),
+        (
+            V41,
+            "2 3 1 1\n",
+            "2 3 2 1\n",
+            "node block of dimension 2 with parametric flag 2",
+        ),
+        (
+            V41,
+            "\n50\n",
+            "\n9223372036854775808\n",
+            "node tag 9223372036854775808 is too large",
+        ),
+        (
+            V41,
+            "2 2 1 2\n",
+            "2 3 1 2\n",
+            "counts 3 elements, its blocks hold 2",
+        ),
+        (
+            V41,
+            "0\n3\n1\n2 1 2 3",
+            "0\n3\n1\n2 1 2 3\n$EndElementData\n$ElementData\n1\n\"flux\"\n1\n0\n3\n0\n1\n1\n2 5",
+            "view 'flux' step 0 has 1 components here and 3 before",
+        ),
+        (V41, "1 4 1 2 3 4", "1 -4 1 2 3 4", "-4 nodes per element"),
+    ];
+    for (text, from, to, needle) in cases {
+        let e = err(&replace(text, from, to));
+        assert!(e.to_string().contains(needle), "{to:?}: {e}");
+        assert!(e.to_string().starts_with("t.msh: line "), "{e}");
+    }
+    // Binary: a group of elements larger than what is left to read.
+    let mut bin = v22_binary(false);
+    let at = bin.windows(4).position(|w| w == b"\n3\n\x04").unwrap() + 3;
+    bin[at + 4] = 9;
+    let e = err(&bin);
+    assert_err(
+        &e,
+        Place::Byte(at as u64),
+        "a group of 9 elements, 3 left to read",
+    );
+}
