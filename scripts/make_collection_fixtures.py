@@ -10,7 +10,7 @@ multiblock.vtm (vtkXMLMultiBlockDataWriter): block 0 "solid"; block 1 "shell", a
 differing.vtm: block "a" has all four arrays plus a_only (cell, Float32); block "b" lacks velocity
   and has b_only (point, Int32): merged, temperature, material and pressure remain.
 kinds.vtm: an unstructured grid "volume", its surface as polydata "surface" (.vtp), and image
-  data "image" (.vti), which tetkit skips with a warning.
+  data "image" (.vti), which tetkit reads as voxels.
 parallel.pvtu (vtkXMLPUnstructuredGridWriter, 3 pieces via vtkExtractUnstructuredGridPiece).
 extra_arrays.pvtu: written as parallel.pvtu, then piece 1 rewritten with an extra cell array
   rank_debug that the .pvtu does not declare (FEM codes write such pieces).

@@ -120,23 +120,27 @@ fn arrays_some_blocks_lack_are_dropped_and_named() {
 }
 
 #[test]
-fn polydata_blocks_merge_and_image_blocks_are_skipped_with_a_warning() {
+fn polydata_and_image_blocks_merge() {
     let r = tetkit(["info", fixture("collections/kinds.vtm").to_str().unwrap()]);
     r.assert_success();
-    assert!(
-        r.stderr.contains("block 'image'")
-            && r.stderr.contains("kinds_2.vti")
-            && r.stderr.contains("skipped"),
-        "{}",
-        r.stderr
-    );
     let g = read("kinds.vtm");
     let vol = read("kinds/kinds_0.vtu");
     let surf = formats::vtu::read_path(&fixture("collections/kinds/kinds_1.vtp")).unwrap();
-    assert_concatenation(&g, &[vol.clone(), surf.clone()]);
+    // The image block is read as voxels, as VTK's Merge Blocks gives it.
+    let image = formats::read(&fixture("collections/kinds/kinds_2.vti")).unwrap();
+    assert!(image.num_cells() > 0);
+    assert!(image
+        .cells
+        .types
+        .iter()
+        .all(|&t| t == formats::cell_type::VOXEL));
+    assert_concatenation(&g, &[vol.clone(), surf.clone(), image.clone()]);
     assert_eq!(block_names(&g), ["volume", "surface", "image"]);
-    assert_eq!(*block_ids(&g).last().unwrap(), 1);
-    assert_eq!(g.num_cells(), vol.num_cells() + surf.num_cells());
+    assert_eq!(*block_ids(&g).last().unwrap(), 2);
+    assert_eq!(
+        g.num_cells(),
+        vol.num_cells() + surf.num_cells() + image.num_cells()
+    );
 }
 
 #[test]
@@ -332,8 +336,9 @@ fn broken_collections_name_the_file_block_and_fault() {
         &p,
         &["odd.vtm", "block 'x'", "notes.txt", "not a VTK data file"],
     );
-    // A block with Float64 points beside Float32 ones.
+    // A block with Float64 points beside Float32 ones: they meet in Float64, exactly.
     let mut g = formats::read(&d.join("b/multiblock_1.vtu")).unwrap();
+    let narrow = formats::read(&d.join("b/multiblock_0.vtu")).unwrap();
     g.points.data = ArrayData::Float64(g.points.data.to_f64_vec());
     formats::write(&d.join("b/f64.vtu"), &g, &Default::default()).unwrap();
     let p = collection(
@@ -341,7 +346,18 @@ fn broken_collections_name_the_file_block_and_fault() {
         "types.vtm",
         r#"<DataSet index="0" name="a" file="b/multiblock_0.vtu"/><DataSet index="1" name="wide" file="b/f64.vtu"/>"#,
     );
-    fails(&p, &["types.vtm", "block 'wide'", "Float64", "Float32"]);
+    let merged = formats::read(&p).unwrap();
+    assert_eq!(merged.points.data.type_name(), "Float64");
+    assert_eq!(merged.point(0), narrow.point(0));
+    // 64-bit integer points would not survive Float64: refused, naming the block.
+    g.points.data = ArrayData::Int64(vec![1 << 60; g.points.data.len()]);
+    formats::write(&d.join("b/i64.vtu"), &g, &Default::default()).unwrap();
+    let p = collection(
+        d,
+        "ints.vtm",
+        r#"<DataSet index="0" name="a" file="b/multiblock_0.vtu"/><DataSet index="1" name="huge" file="b/i64.vtu"/>"#,
+    );
+    fails(&p, &["ints.vtm", "block 'huge'", "Int64", "Float32"]);
     // An inner file's own fault is named with the outer file and block in front.
     std::fs::write(
         d.join("b/broken.vtu"),

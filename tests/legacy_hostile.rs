@@ -170,10 +170,16 @@ fn bad_keywords_types_and_headers() {
         3,
         "ASCII or BINARY",
     );
+    // Structured data sets are read, but need their DIMENSIONS.
     refused_at(
         "# vtk DataFile Version 4.2\nt\nASCII\nDATASET STRUCTURED_POINTS\n",
         4,
-        "STRUCTURED_POINTS",
+        "STRUCTURED_POINTS data set without DIMENSIONS",
+    );
+    refused_at(
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET UNIFORM_GRID\n",
+        4,
+        "'UNIFORM_GRID' is not supported",
     );
     // POLYDATA is read (surfaces of cutting bodies), but not with an unstructured grid's CELLS.
     refused_at(

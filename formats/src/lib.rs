@@ -1,5 +1,6 @@
 //! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen;
-//! readers for the VTK collections (.vtm, .pvd) that name them.
+//! readers for the VTK collections (.vtm, .pvd) that name them, for VTK's structured data (.vti,
+//! .vtr, .vts and their legacy forms, as voxels and hexahedra) and for polydata (.vtp).
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the
@@ -12,6 +13,7 @@ pub mod error;
 pub mod grid;
 pub mod legacy;
 pub mod msh;
+pub(crate) mod structured;
 pub mod tetgen;
 pub mod vtu;
 
@@ -39,9 +41,20 @@ pub enum Format {
     Vtm,
     /// ParaView data collection, `.pvd`: a time series of data files (read only).
     Pvd,
+    /// VTK XML image data, `.vti`: read as voxels (read only).
+    Vti,
+    /// VTK XML rectilinear grid, `.vtr`: read as voxels (read only).
+    Vtr,
+    /// VTK XML structured (curvilinear) grid, `.vts`: read as hexahedra (read only).
+    Vts,
+    /// VTK XML polydata, `.vtp`: vertices, lines, polygons and strips (read only).
+    Vtp,
     /// Gmsh mesh, `.msh` (MSH 4.1 and 2.2; read only).
     Msh,
 }
+
+/// The extensions [`Format::from_path`] knows, for messages.
+const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .vtm, .pvd, .vti, .vtr, .vts, .vtp or .msh";
 
 impl Format {
     /// The format a path's extension names.
@@ -57,13 +70,16 @@ impl Format {
             "node" | "ele" | "face" | "neigh" => Ok(Format::TetGen),
             "vtm" => Ok(Format::Vtm),
             "pvd" => Ok(Format::Pvd),
+            "vti" => Ok(Format::Vti),
+            "vtr" => Ok(Format::Vtr),
+            "vts" => Ok(Format::Vts),
+            "vtp" => Ok(Format::Vtp),
             "msh" => Ok(Format::Msh),
-            "" => Err(FormatError::whole(
-                "no file extension; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm, .pvd or .msh",
-            )
-            .with_file(path)),
+            "" => Err(
+                FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
+            ),
             other => Err(FormatError::whole(format!(
-                "unknown file extension '.{other}'; expected .vtu, .pvtu, .vtk, .node, .ele, .vtm, .pvd or .msh"
+                "unknown file extension '.{other}'; expected {KNOWN}"
             ))
             .with_file(path)),
         }
@@ -78,9 +94,27 @@ impl Format {
             "tetgen" | "node" | "ele" => Some(Format::TetGen),
             "vtm" => Some(Format::Vtm),
             "pvd" => Some(Format::Pvd),
+            "vti" => Some(Format::Vti),
+            "vtr" => Some(Format::Vtr),
+            "vts" => Some(Format::Vts),
+            "vtp" => Some(Format::Vtp),
             "msh" | "gmsh" => Some(Format::Msh),
             _ => None,
         }
+    }
+
+    /// Formats tetkit reads but does not write.
+    pub fn read_only(self) -> bool {
+        matches!(
+            self,
+            Format::Vtm
+                | Format::Pvd
+                | Format::Vti
+                | Format::Vtr
+                | Format::Vts
+                | Format::Vtp
+                | Format::Msh
+        )
     }
 
     pub fn name(self) -> &'static str {
@@ -91,6 +125,10 @@ impl Format {
             Format::TetGen => "TetGen",
             Format::Vtm => "VTM",
             Format::Pvd => "PVD",
+            Format::Vti => "VTI (image data)",
+            Format::Vtr => "VTR (rectilinear grid)",
+            Format::Vts => "VTS (structured grid)",
+            Format::Vtp => "VTP (polydata)",
             Format::Msh => "Gmsh MSH",
         }
     }
@@ -149,6 +187,10 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
                     Some(Format::Vtm)
                 }
                 "Collection" => Some(Format::Pvd),
+                "ImageData" => Some(Format::Vti),
+                "RectilinearGrid" => Some(Format::Vtr),
+                "StructuredGrid" => Some(Format::Vts),
+                "PolyData" => Some(Format::Vtp),
                 _ => None,
             };
         }
@@ -243,7 +285,7 @@ pub fn read(path: &Path) -> Result<Grid> {
             check_sniff(path, format, &bytes)?;
             vtu::pvtu::read(path, &bytes)?
         }
-        Format::Vtu => {
+        Format::Vtu | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp => {
             check_sniff(path, format, &read_head(path)?)?;
             vtu::read_path(path)?
         }
@@ -299,7 +341,7 @@ fn check_sniff(path: &Path, format: Format, bytes: &[u8]) -> Result<()> {
 /// TetGen, PVTU, VTM and PVD need sibling files and cannot be read this way.
 pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
     let grid = match format {
-        Format::Vtu => vtu::read(bytes)?,
+        Format::Vtu | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
         Format::Msh => msh::read_from(bytes, None)?,
         Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd => {
@@ -318,7 +360,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
 /// beside each other (both or neither).
 pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     let format = Format::from_path(path)?;
-    if matches!(format, Format::Vtm | Format::Pvd | Format::Msh) {
+    if format.read_only() {
         return Err(read_only(format).with_file(path));
     }
     grid.validate().map_err(|m| {
@@ -332,7 +374,7 @@ pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
             write_to(&mut f, format, grid, opts).map_err(|e| e.with_file(path))?;
             f.commit().map_err(|e| FormatError::io(path, e))
         }
-        Format::Vtm | Format::Pvd | Format::Msh => Err(read_only(format).with_file(path)),
+        _ => Err(read_only(format).with_file(path)),
     }
 }
 
@@ -352,7 +394,7 @@ pub fn write_to(w: &mut dyn Write, format: Format, grid: &Grid, opts: &WriteOpti
             "{} writes several files and cannot be written to a stream",
             format.name()
         ))),
-        Format::Vtm | Format::Pvd | Format::Msh => Err(read_only(format)),
+        _ => Err(read_only(format)),
     }
 }
 
@@ -376,7 +418,9 @@ mod tests {
             sniff(b"<VTKFile type = \"PUnstructuredGrid\">"),
             Some(Format::Pvtu)
         );
-        assert_eq!(sniff(b"<VTKFile type=\"PolyData\">"), None);
+        assert_eq!(sniff(b"<VTKFile type=\"PolyData\">"), Some(Format::Vtp));
+        assert_eq!(sniff(b"<VTKFile type=\"ImageData\">"), Some(Format::Vti));
+        assert_eq!(sniff(b"<VTKFile type=\"Table\">"), None);
         assert_eq!(sniff(b"# vtk DataFile Version 4.2\n"), Some(Format::Legacy));
     }
 }

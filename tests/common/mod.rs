@@ -168,11 +168,12 @@ pub fn dir_listing(dir: &Path) -> Vec<String> {
     v
 }
 
-/// Every mesh under fixtures/ that a reader must accept: `.vtu`, `.pvtu`, `.vtk`, TetGen
-/// `.ele` and Gmsh `.msh` files, recursively, sorted. Folders named `hostile` or `bad` (inputs
-/// that must be refused), `surfaces` (polydata bodies for scenes, not meshes) and `gmsh_vtk`
-/// (Gmsh's own VTK export of the .msh fixtures, kept for comparison: it writes 2nd-order
-/// pyramids as linear ones with 13 or 14 points, which no reader should accept) are left out.
+/// Every mesh under fixtures/ that a reader must accept: `.vtu`, `.pvtu`, `.vtk`, structured
+/// `.vti`/`.vtr`/`.vts`, TetGen `.ele` and Gmsh `.msh` files, recursively, sorted. Folders named
+/// `hostile` or `bad` (inputs that must be refused), `surfaces` (polydata bodies for scenes, not
+/// meshes) and `gmsh_vtk` (Gmsh's own VTK export of the .msh fixtures, kept for comparison: it
+/// writes 2nd-order pyramids as linear ones with 13 or 14 points, which no reader should
+/// accept) are left out.
 pub fn fixture_meshes() -> Vec<PathBuf> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
         let Ok(rd) = std::fs::read_dir(dir) else {
@@ -188,7 +189,7 @@ pub fn fixture_meshes() -> Vec<PathBuf> {
             } else if let Some(ext) = p.extension().and_then(|x| x.to_str()) {
                 if matches!(
                     ext.to_ascii_lowercase().as_str(),
-                    "vtu" | "pvtu" | "vtk" | "ele" | "msh"
+                    "vtu" | "pvtu" | "vtk" | "ele" | "vti" | "vtr" | "vts" | "msh"
                 ) {
                     out.push(p);
                 }

@@ -2,7 +2,7 @@
 //! in block order, the arrays every block has, and the block each cell came from.
 
 use super::warn;
-use crate::{ArrayData, Attributes, DataArray, FormatError, Grid, Place, Result};
+use crate::{ArrayData, Attributes, DataArray, FormatError, Grid, Place, Result, ScalarType};
 use std::path::Path;
 
 /// Name of the Int32 cell array holding each cell's block: VTK's vtkBlockIdScalars (ParaView's
@@ -92,24 +92,55 @@ pub(crate) fn merge_blocks(file: &Path, blocks: Vec<Block>) -> Result<Grid> {
     let names: Vec<String> = blocks.iter().map(|b| b.name.clone()).collect();
     // Blocks without points add nothing, and VTK's append leaves them out of the array
     // intersection too, so an empty block does not cost the others their arrays.
-    let full: Vec<(usize, String, Grid)> = blocks
+    let mut full: Vec<(usize, String, Grid)> = blocks
         .into_iter()
         .enumerate()
         .filter_map(|(i, b)| b.grid.map(|g| (i, b.label, g)))
         .filter(|(_, _, g)| g.num_points() > 0)
         .collect();
     if let Some((_, l0, g0)) = full.first() {
-        for (_, l, g) in &full[1..] {
-            if g.points.data.type_name() != g0.points.data.type_name() {
+        let t0 = g0.points.data.scalar_type();
+        let l0 = l0.clone();
+        if let Some((_, l, gl)) = full[1..]
+            .iter()
+            .find(|(_, _, g)| g.points.data.scalar_type() != t0)
+        {
+            // Image data reads as Float64 points beside Float32 meshes; like VTK's append,
+            // mixed types meet in Float64, which holds every Float32 and 32-bit integer exactly.
+            let exact = |t: Option<ScalarType>| {
+                matches!(
+                    t,
+                    Some(
+                        ScalarType::Float32
+                            | ScalarType::Float64
+                            | ScalarType::Int8
+                            | ScalarType::UInt8
+                            | ScalarType::Int16
+                            | ScalarType::UInt16
+                            | ScalarType::Int32
+                            | ScalarType::UInt32
+                    )
+                )
+            };
+            if let Some((_, bad, g)) = full
+                .iter()
+                .find(|(_, _, g)| !exact(g.points.data.scalar_type()))
+            {
                 return Err(FormatError::new(
-                    Place::Other(l.clone()),
+                    Place::Other(bad.clone()),
                     format!(
-                        "points are {} but {l0} has {} points; blocks to merge must share the points' type",
+                        "points are {} and other blocks' are not ({l0}: {}, {l}: {}); blocks with 64-bit integer points merge only with blocks of the same type",
                         g.points.data.type_name(),
-                        g0.points.data.type_name()
+                        g0.points.data.type_name(),
+                        gl.points.data.type_name()
                     ),
                 )
                 .with_file(file));
+            }
+            for (_, _, g) in &mut full {
+                if !matches!(g.points.data, ArrayData::Float64(_)) {
+                    g.points.data = ArrayData::Float64(g.points.data.to_f64_vec());
+                }
             }
         }
     }

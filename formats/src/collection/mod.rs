@@ -53,27 +53,27 @@ impl Chain {
 
 /// What kind of data set a file of this extension holds, as far as merging goes.
 enum Kind {
-    /// An unstructured grid or polydata tetkit reads into a [`Grid`].
+    /// An unstructured grid, polydata or structured data set tetkit reads into a [`Grid`].
     Mesh,
     Pvtu,
     Legacy,
     Vtm,
     Pvd,
-    /// Image, structured, rectilinear or other VTK data tetkit does not read: skipped.
+    /// Parallel structured, AMR or other VTK data tetkit does not read: skipped.
     Other(&'static str),
 }
 
 fn kind(path: &Path) -> Option<Kind> {
     let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
     Some(match ext.as_str() {
-        "vtu" | "vtp" => Kind::Mesh,
+        "vtu" | "vtp" | "vti" | "vtr" | "vts" => Kind::Mesh,
         "pvtu" => Kind::Pvtu,
         "vtk" => Kind::Legacy,
         "vtm" | "vtmb" => Kind::Vtm,
         "pvd" => Kind::Pvd,
-        "vti" | "pvti" => Kind::Other("image data"),
-        "vts" | "pvts" => Kind::Other("a structured grid"),
-        "vtr" | "pvtr" => Kind::Other("a rectilinear grid"),
+        "pvti" => Kind::Other("parallel image data"),
+        "pvts" => Kind::Other("a parallel structured grid"),
+        "pvtr" => Kind::Other("a parallel rectilinear grid"),
         "pvtp" => Kind::Other("parallel polydata"),
         "vthb" | "vth" => Kind::Other("an AMR data set"),
         "vtpc" | "vtpd" => Kind::Other("a partitioned data set"),
@@ -123,7 +123,7 @@ pub(crate) fn read_into(
     let grid = match kind(&path) {
         None => {
             return Err(at(format!(
-                "'{}' is not a VTK data file tetkit knows (.vtu, .vtp, .pvtu, .vtk, .vtm)",
+                "'{}' is not a VTK data file tetkit knows (.vtu, .vtp, .vti, .vtr, .vts, .pvtu, .vtk, .vtm)",
                 path.display()
             )))
         }
@@ -158,7 +158,10 @@ pub(crate) fn read_into(
             Some(crate::vtu::pvtu::read(&path, &bytes).map_err(wrap)?)
         }
         Some(Kind::Legacy) => match legacy_dataset(&path).map_err(wrap)?.as_deref() {
-            Some("UNSTRUCTURED_GRID" | "POLYDATA") => {
+            Some(
+                "UNSTRUCTURED_GRID" | "POLYDATA" | "STRUCTURED_POINTS" | "STRUCTURED_GRID"
+                | "RECTILINEAR_GRID",
+            ) => {
                 Some(crate::legacy::read_path(&path).map_err(wrap)?)
             }
             other => {

@@ -1,4 +1,6 @@
 //! Legacy VTK (.vtk) unstructured grids: versions up to 4.2 and 5.1, ASCII and big-endian binary.
+//! Polydata and the structured data sets (STRUCTURED_POINTS, STRUCTURED_GRID, RECTILINEAR_GRID)
+//! are read too, as the cells VTK gives them; only UNSTRUCTURED_GRID is written.
 //!
 //! What is kept: points in their file type; cells (4.2 `CELLS n size` and 5.1
 //! `OFFSETS`/`CONNECTIVITY`, polyhedra as face streams); every POINT_DATA/CELL_DATA array with its
@@ -14,6 +16,7 @@ mod attributes;
 mod cursor;
 mod encode;
 mod header;
+mod lattice;
 mod names;
 mod read;
 mod values;

@@ -1,11 +1,13 @@
 //! The dataset part of a legacy file: DATASET, FIELD, POINTS, CELLS (4.2 counts-inline or 5.1
 //! OFFSETS/CONNECTIVITY), CELL_TYPES, then the attribute sections; polyhedra's face streams are
 //! turned into point lists plus the face arrays VTK keeps. A POLYDATA dataset's VERTICES, LINES,
-//! POLYGONS and TRIANGLE_STRIPS become cells in that order (VTK's numbering).
+//! POLYGONS and TRIANGLE_STRIPS become cells in that order (VTK's numbering); a structured data
+//! set's lattice becomes voxels or hexahedra ([`super::lattice`]).
 
 use super::attributes::{read_field, read_metadata, read_section, read_type};
 use super::cursor::{is_kw, show, Cursor};
 use super::header;
+use super::lattice;
 use super::values::{read_numeric, read_values, LegacyType};
 use crate::{cell_type, ArrayData, Cells, DataArray, FormatError, Grid, PolySection, Result};
 use rayon::prelude::*;
@@ -83,17 +85,24 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     let mut have_points = false;
     let mut raw: Option<RawCells> = None;
     let mut types: Option<(Vec<u8>, usize)> = None;
+    // STRUCTURED_POINTS, STRUCTURED_GRID or RECTILINEAR_GRID.
+    let mut lattice: Option<lattice::State> = None;
     while let Some((p, t)) = cur.token().map(|(p, t)| (p, t.to_vec())) {
         let t = &t[..];
         if is_kw(t, "DATASET") {
             let (q, kind) = cur.require("the dataset type")?;
+            if have_dataset {
+                return Err(cur.err(p, "a second DATASET line"));
+            }
             if is_kw(&kind, "POLYDATA") {
                 poly = Some(Vec::new());
+            } else if let Some(k) = lattice::Kind::from_keyword(&kind) {
+                lattice = Some(lattice::State::new(k, p));
             } else if !is_kw(&kind, "UNSTRUCTURED_GRID") {
                 return Err(cur.err(
                     q,
                     format!(
-                        "dataset type '{}' is not supported: UNSTRUCTURED_GRID and POLYDATA are read",
+                        "dataset type '{}' is not supported: UNSTRUCTURED_GRID, POLYDATA, STRUCTURED_POINTS, STRUCTURED_GRID and RECTILINEAR_GRID are read",
                         show(&kind)
                     ),
                 ));
@@ -108,7 +117,16 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
             for a in read_field(&mut cur)? {
                 upsert(&mut grid.field_data, a);
             }
-        } else if is_kw(t, "POINTS") {
+        } else if match lattice.as_mut() {
+            Some(l) => l.keyword(&mut cur, p, t)?,
+            None => false,
+        } {
+            // A structured data set's DIMENSIONS, ORIGIN, SPACING or coordinates: read.
+        } else if is_kw(t, "POINTS")
+            && lattice
+                .as_ref()
+                .map_or(true, |l| l.kind == lattice::Kind::Grid)
+        {
             let n = cur.expect_count("the number of points")?;
             let ty = read_type(&mut cur, "POINTS")?;
             if matches!(ty, LegacyType::String) {
@@ -141,9 +159,9 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
                 return Err(cur.err(p, format!("a second {} section", show(t))));
             }
             secs.push((sec, read_cells(&mut cur, p)?, p));
-        } else if poly.is_none() && is_kw(t, "CELLS") {
+        } else if poly.is_none() && lattice.is_none() && is_kw(t, "CELLS") {
             raw = Some(read_cells(&mut cur, p)?);
-        } else if poly.is_none() && is_kw(t, "CELL_TYPES") {
+        } else if poly.is_none() && lattice.is_none() && is_kw(t, "CELL_TYPES") {
             let n = cur.expect_count("the number of cell types")?;
             let at = cur.pos;
             let v: Vec<i32> = read_values(&mut cur, n, "CELL_TYPES")?;
@@ -158,7 +176,14 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
         } else if is_kw(t, "POINT_DATA") || is_kw(t, "CELL_DATA") {
             let point = is_kw(t, "POINT_DATA");
             let n = cur.expect_count("the number of tuples")?;
-            let expected = if point {
+            let expected = if let Some(l) = &lattice {
+                let (np, nc) = l.counts(&cur, p)?;
+                if point {
+                    np
+                } else {
+                    nc
+                }
+            } else if point {
                 grid.num_points()
             } else if let Some(secs) = &poly {
                 secs.iter().map(|x| x.1.count()).sum()
@@ -187,10 +212,10 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
                 format!(
                     "unknown keyword '{}' in {}",
                     show(t),
-                    if poly.is_some() {
-                        "a POLYDATA"
-                    } else {
-                        "an UNSTRUCTURED_GRID"
+                    match (&poly, &lattice) {
+                        (Some(_), _) => "a POLYDATA",
+                        (None, Some(l)) => l.kind.name(),
+                        (None, None) => "an UNSTRUCTURED_GRID",
                     }
                 ),
             ));
@@ -198,6 +223,10 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     }
     if !have_dataset {
         return Err(cur.err(cur.pos, "no DATASET line"));
+    }
+    if let Some(l) = lattice {
+        l.finish(&cur, &mut grid, have_points)?;
+        return Ok(grid);
     }
     if !have_points && raw.is_some() {
         return Err(cur.err(cur.pos, "CELLS given but no POINTS"));

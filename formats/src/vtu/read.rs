@@ -1,10 +1,12 @@
 //! Assembles a [`Grid`] from a parsed .vtu (or .vtp, whose verts, lines, polys and strips become
-//! cells in that order, VTK's own cell numbering): arrays decoded in parallel, pieces merged in
+//! cells in that order, VTK's own cell numbering; or .vti/.vtr/.vts, whose lattice cells become
+//! voxels or hexahedra, see [`crate::structured`]): arrays decoded in parallel, pieces merged in
 //! order.
 
 use super::decode::{self, Appended, Input};
 use super::source::{Blob, FileBlob, MemBlob};
-use super::xml::{self, ArrayXml, AttributesXml, Document, ElemType, PieceXml};
+use super::xml::{self, ArrayXml, AttributesXml, Document, ElemType, PieceXml, StructuredXml};
+use crate::structured::{self, Lattice};
 use crate::{ArrayData, Attributes, Cells, DataArray, FormatError, Grid, Result};
 use rayon::prelude::*;
 use std::path::Path;
@@ -89,6 +91,8 @@ fn all_arrays(doc: &Document) -> impl Iterator<Item = &ArrayXml> {
             .chain(&p.cell_data.arrays)
             .chain(&p.points)
             .chain(&p.cells)
+            .chain(&p.coordinates)
+            .chain(p.poly.iter().flat_map(|s| &s.2))
     }))
 }
 
@@ -112,10 +116,27 @@ fn build(doc: &Document, blob: &dyn Blob) -> Result<Grid> {
         .pieces
         .iter()
         .enumerate()
-        .map(|(i, p)| piece(&inp, p).map_err(|e| in_piece(e, i, doc.pieces.len())))
+        .map(|(i, p)| {
+            match doc.structured {
+                Some(s) => structured_piece(&inp, p, s),
+                None => piece(&inp, p),
+            }
+            .map_err(|e| in_piece(e, i, doc.pieces.len()))
+        })
         .collect::<Result<Vec<_>>>()?;
     let mut grid = merge(pieces)?;
     grid.field_data = field_data;
+    if let (Some(kind), true) = (doc.structured, doc.pieces.len() > 1) {
+        let extents: Vec<[i64; 6]> = doc.pieces.iter().filter_map(|p| p.extent).collect();
+        let (lattice, image) = match &kind {
+            StructuredXml::Image(img) => (Lattice::Axis, Some(img)),
+            StructuredXml::Rectilinear => (Lattice::Axis, None),
+            StructuredXml::Curvilinear => (Lattice::Curvilinear, None),
+        };
+        let at = doc.pieces[0].tag_pos;
+        grid = structured::join_pieces(&extents, grid, lattice, image)
+            .map_err(|m| FormatError::at_byte(at, m))?;
+    }
     Ok(grid)
 }
 
@@ -261,6 +282,119 @@ fn poly_cells(inp: &Input, p: &PieceXml) -> Result<(Vec<i64>, Vec<i64>, Vec<u8>)
     Ok((offsets, connectivity, types))
 }
 
+/// Decodes one piece of image data or a rectilinear or structured grid: points from the
+/// geometry the file gives, cells from the extent.
+fn structured_piece(inp: &Input, p: &PieceXml, kind: StructuredXml) -> Result<Grid> {
+    let (np, nc) = (p.num_points, p.num_cells);
+    let extent = p
+        .extent
+        .ok_or_else(|| FormatError::at_byte(p.tag_pos, "a structured <Piece> without an Extent"))?;
+    let dims = structured::dims(extent).map_err(|m| FormatError::at_byte(p.tag_pos, m))?;
+    let (points, lattice) = match kind {
+        StructuredXml::Image(image) => (
+            structured::image_points(&image, extent, dims)
+                .map_err(|m| FormatError::at_byte(p.tag_pos, m))?,
+            Lattice::Axis,
+        ),
+        StructuredXml::Rectilinear => {
+            let Some(d) = dims else {
+                return empty_piece(inp, p);
+            };
+            if p.coordinates.len() != 3 {
+                return Err(FormatError::at_byte(
+                    p.tag_pos,
+                    format!(
+                        "<Coordinates> holds {} arrays, expected 3 (x, y and z)",
+                        p.coordinates.len()
+                    ),
+                ));
+            }
+            let axes = p
+                .coordinates
+                .par_iter()
+                .zip(d.to_vec())
+                .map(|(a, n)| {
+                    if a.components != 1 {
+                        return Err(FormatError::at_byte(
+                            a.tag_pos,
+                            format!(
+                                "coordinate array '{}' has {} components, expected 1",
+                                a.name, a.components
+                            ),
+                        ));
+                    }
+                    let d = array(inp, a, Some(n))?;
+                    if d.data.scalar_type().is_none() {
+                        return Err(FormatError::at_byte(
+                            a.tag_pos,
+                            format!("coordinate array '{}' must be numeric", a.name),
+                        ));
+                    }
+                    Ok(d.data)
+                })
+                .collect::<Result<Vec<_>>>()?;
+            (
+                structured::rectilinear_points([&axes[0], &axes[1], &axes[2]])
+                    .map_err(|m| FormatError::at_byte(p.tag_pos, m))?,
+                Lattice::Axis,
+            )
+        }
+        StructuredXml::Curvilinear => (points_of(inp, p)?, Lattice::Curvilinear),
+    };
+    let (pd, cd) = rayon::join(
+        || attributes(inp, &p.point_data, np),
+        || attributes(inp, &p.cell_data, nc),
+    );
+    let cells = structured::cells(dims, lattice).map_err(|m| FormatError::at_byte(p.tag_pos, m))?;
+    debug_assert_eq!(cells.len(), nc);
+    Ok(Grid {
+        points,
+        cells,
+        point_data: pd?,
+        cell_data: cd?,
+        field_data: Vec::new(),
+    })
+}
+
+/// A piece with an empty extent: no points, no cells, its (empty) arrays kept by name.
+fn empty_piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
+    Ok(Grid {
+        points: DataArray::new("Points", 3, ArrayData::Float64(Vec::new())),
+        cells: Cells::new(),
+        point_data: attributes(inp, &p.point_data, 0)?,
+        cell_data: attributes(inp, &p.cell_data, 0)?,
+        field_data: Vec::new(),
+    })
+}
+
+/// The piece's `<Points>` array, checked: three numeric components per point.
+fn points_of(inp: &Input, p: &PieceXml) -> Result<DataArray> {
+    let np = p.num_points;
+    Ok(match &p.points {
+        Some(a) => {
+            if a.components != 3 {
+                return Err(FormatError::at_byte(
+                    a.tag_pos,
+                    format!(
+                        "array '{}' (Points) has {} components, expected 3",
+                        a.name, a.components
+                    ),
+                ));
+            }
+            let need = np.checked_mul(3).ok_or_else(|| {
+                FormatError::at_byte(p.tag_pos, format!("NumberOfPoints {np} is too large"))
+            })?;
+            let d = array(inp, a, Some(need))?;
+            if d.data.scalar_type().is_none() {
+                return Err(FormatError::at_byte(a.tag_pos, "Points must be numeric"));
+            }
+            d
+        }
+        None if np == 0 => DataArray::new("Points", 3, ArrayData::Float32(Vec::new())),
+        None => return Err(FormatError::at_byte(p.tag_pos, "<Piece> has no <Points>")),
+    })
+}
+
 /// Decodes one piece: offsets then connectivity on one side, everything else on the other.
 fn piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
     let (np, nc) = (p.num_points, p.num_cells);
@@ -290,29 +424,7 @@ fn piece(inp: &Input, p: &PieceXml) -> Result<Grid> {
         Ok((offsets, connectivity, None))
     };
     let rest = || -> Result<_> {
-        let points = match &p.points {
-            Some(a) => {
-                if a.components != 3 {
-                    return Err(FormatError::at_byte(
-                        a.tag_pos,
-                        format!(
-                            "array '{}' (Points) has {} components, expected 3",
-                            a.name, a.components
-                        ),
-                    ));
-                }
-                let need = np.checked_mul(3).ok_or_else(|| {
-                    FormatError::at_byte(p.tag_pos, format!("NumberOfPoints {np} is too large"))
-                })?;
-                let d = array(inp, a, Some(need))?;
-                if d.data.scalar_type().is_none() {
-                    return Err(FormatError::at_byte(a.tag_pos, "Points must be numeric"));
-                }
-                d
-            }
-            None if np == 0 => DataArray::new("Points", 3, ArrayData::Float32(Vec::new())),
-            None => return Err(FormatError::at_byte(p.tag_pos, "<Piece> has no <Points>")),
-        };
+        let points = points_of(inp, p)?;
         let types = if nc == 0 || poly_data {
             Vec::new()
         } else {

@@ -1,8 +1,9 @@
-//! The XML structure of a .vtu (or a .vtp: PolyData shares the layout), read with quick-xml
-//! events: which arrays exist, their attributes, and their inline text; stops at `<AppendedData>`
-//! (binary follows, which is not XML).
+//! The XML structure of a .vtu (or a .vtp, .vti, .vtr or .vts: they share the layout), read with
+//! quick-xml events: which arrays exist, their attributes, and their inline text; stops at
+//! `<AppendedData>` (binary follows, which is not XML).
 
 use super::{ByteOrder, Compressor, HeaderType, Layout};
+use crate::structured::Image;
 use crate::{Attribute, FormatError, PolySection, Result, ScalarType};
 use quick_xml::events::{BytesStart, Event};
 use std::io::BufRead;
@@ -85,7 +86,22 @@ pub(crate) struct PieceXml {
     pub points: Option<ArrayXml>,
     /// connectivity, offsets, types, faces, faceoffsets, in file order.
     pub cells: Vec<ArrayXml>,
+    /// Structured data: the piece's `Extent` (i0 i1 j0 j1 k0 k1).
+    pub extent: Option<[i64; 6]>,
+    /// RectilinearGrid: the x, y and z coordinate arrays of `<Coordinates>`, in file order.
+    pub coordinates: Vec<ArrayXml>,
     pub tag_pos: u64,
+}
+
+/// What a structured file's root type says about its points and cells.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum StructuredXml {
+    /// ImageData: points from origin, spacing and direction.
+    Image(Image),
+    /// RectilinearGrid: points from three coordinate lists.
+    Rectilinear,
+    /// StructuredGrid: points given, cells implied.
+    Curvilinear,
 }
 
 /// Where the appended block is.
@@ -100,6 +116,8 @@ pub(crate) struct AppendedXml {
 pub(crate) struct Document {
     /// `type="PolyData"` (a .vtp) rather than UnstructuredGrid.
     pub poly_data: bool,
+    /// ImageData, RectilinearGrid or StructuredGrid (a .vti, .vtr or .vts).
+    pub structured: Option<StructuredXml>,
     pub layout: Layout,
     pub field_data: Vec<ArrayXml>,
     pub pieces: Vec<PieceXml>,
@@ -116,6 +134,7 @@ enum Ctx {
     CellData,
     Points,
     Cells,
+    Coordinates,
     Poly,
     Array,
     Other,
@@ -262,6 +281,52 @@ fn array_from(a: &[(String, String)], pos: u64) -> Result<ArrayXml> {
     })
 }
 
+/// Six integers, as `Extent` and `WholeExtent` hold; `None` when the attribute is absent.
+fn extent_from(a: &[(String, String)], key: &str, pos: u64) -> Result<Option<[i64; 6]>> {
+    let Some(v) = get(a, key) else {
+        return Ok(None);
+    };
+    let bad = || FormatError::at_byte(pos, format!("{key}=\"{v}\" is not six integers"));
+    let nums = v
+        .split_whitespace()
+        .map(|t| t.parse::<i64>().map_err(|_| bad()))
+        .collect::<Result<Vec<_>>>()?;
+    <[i64; 6]>::try_from(nums).map(Some).map_err(|_| bad())
+}
+
+/// `n` finite numbers from an attribute, or `default` when it is absent.
+fn floats<const N: usize>(
+    a: &[(String, String)],
+    key: &str,
+    default: [f64; N],
+    pos: u64,
+) -> Result<[f64; N]> {
+    let Some(v) = get(a, key) else {
+        return Ok(default);
+    };
+    let bad = || FormatError::at_byte(pos, format!("{key}=\"{v}\" is not {N} finite numbers"));
+    let nums = v
+        .split_whitespace()
+        .map(|t| {
+            t.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(bad)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    <[f64; N]>::try_from(nums).map_err(|_| bad())
+}
+
+/// The geometry attributes of `<ImageData>` (VTK 9 adds `Direction`; older files have none).
+fn image_from(a: &[(String, String)], pos: u64) -> Result<Image> {
+    let d = Image::default();
+    Ok(Image {
+        origin: floats(a, "Origin", d.origin, pos)?,
+        spacing: floats(a, "Spacing", d.spacing, pos)?,
+        direction: floats(a, "Direction", d.direction, pos)?,
+    })
+}
+
 fn active_from(a: &[(String, String)]) -> Vec<(Attribute, String)> {
     Attribute::ALL
         .iter()
@@ -278,6 +343,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
     let mut stack: Vec<Ctx> = Vec::new();
     let mut doc = Document {
         poly_data: false,
+        structured: None,
         layout: Layout {
             header: HeaderType::UInt32,
             order: ByteOrder::LittleEndian,
@@ -348,6 +414,19 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                 match get(&a, "type") {
                     Some("UnstructuredGrid") => {}
                     Some("PolyData") => doc.poly_data = true,
+                    Some("ImageData") => {
+                        doc.structured = Some(StructuredXml::Image(Image::default()))
+                    }
+                    Some("RectilinearGrid") => doc.structured = Some(StructuredXml::Rectilinear),
+                    Some("StructuredGrid") => doc.structured = Some(StructuredXml::Curvilinear),
+                    Some(t @ ("PImageData" | "PRectilinearGrid" | "PStructuredGrid")) => {
+                        return Err(FormatError::at_byte(
+                            pos,
+                            format!(
+                                "this is a parallel file ({t}); tetkit reads its pieces (.vti, .vtr, .vts) one at a time, or the .vtm/.pvd that names them"
+                            ),
+                        ))
+                    }
                     Some("PUnstructuredGrid") => {
                         return Err(FormatError::at_byte(
                             pos,
@@ -358,7 +437,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                         return Err(FormatError::at_byte(
                             pos,
                             format!(
-                            "VTKFile type is {:?}, expected \"UnstructuredGrid\" or \"PolyData\"",
+                            "VTKFile type is {:?}, expected \"UnstructuredGrid\", \"PolyData\", \"ImageData\", \"RectilinearGrid\" or \"StructuredGrid\"",
                             other.unwrap_or("(none)")
                         ),
                         ))
@@ -376,8 +455,28 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                     ),
                 ))
             }
-            (Some(Ctx::File), b"UnstructuredGrid") if !doc.poly_data => Ctx::Grid,
+            (Some(Ctx::File), b"UnstructuredGrid")
+                if !doc.poly_data && doc.structured.is_none() =>
+            {
+                Ctx::Grid
+            }
             (Some(Ctx::File), b"PolyData") if doc.poly_data => Ctx::Grid,
+            (Some(Ctx::File), b"ImageData")
+                if matches!(doc.structured, Some(StructuredXml::Image(_))) =>
+            {
+                doc.structured = Some(StructuredXml::Image(image_from(&a, pos)?));
+                Ctx::Grid
+            }
+            (Some(Ctx::File), b"RectilinearGrid")
+                if doc.structured == Some(StructuredXml::Rectilinear) =>
+            {
+                Ctx::Grid
+            }
+            (Some(Ctx::File), b"StructuredGrid")
+                if doc.structured == Some(StructuredXml::Curvilinear) =>
+            {
+                Ctx::Grid
+            }
             (Some(Ctx::File), b"AppendedData") => {
                 let raw = match get(&a, "encoding").unwrap_or("raw") {
                     "raw" => true,
@@ -406,7 +505,16 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                     pos,
                 )?;
                 let mut poly = Vec::new();
-                let nc = if doc.poly_data {
+                let mut extent = None;
+                let (np, nc) = if doc.structured.is_some() {
+                    let e = extent_from(&a, "Extent", pos)?.ok_or_else(|| {
+                        FormatError::at_byte(pos, "a structured <Piece> without an Extent")
+                    })?;
+                    extent = Some(e);
+                    crate::structured::dims(e)
+                        .and_then(crate::structured::counts)
+                        .map_err(|m| FormatError::at_byte(pos, format!("Extent: {m}")))?
+                } else if doc.poly_data {
                     let mut total = 0usize;
                     for sec in PolySection::ALL {
                         let what = count_attr(sec);
@@ -416,18 +524,20 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                         })?;
                         poly.push((sec, n, Vec::new()));
                     }
-                    total
+                    (np, total)
                 } else {
-                    parse_count(
+                    let nc = parse_count(
                         get(&a, "NumberOfCells").unwrap_or("0"),
                         "NumberOfCells",
                         pos,
-                    )?
+                    )?;
+                    (np, nc)
                 };
                 doc.pieces.push(PieceXml {
                     num_points: np,
                     num_cells: nc,
                     poly,
+                    extent,
                     tag_pos: pos,
                     ..PieceXml::default()
                 });
@@ -442,7 +552,14 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                 Ctx::CellData
             }
             (Some(Ctx::Piece), b"Points") => Ctx::Points,
-            (Some(Ctx::Piece), b"Cells") if !doc.poly_data => Ctx::Cells,
+            (Some(Ctx::Piece), b"Cells") if !doc.poly_data && doc.structured.is_none() => {
+                Ctx::Cells
+            }
+            (Some(Ctx::Piece), b"Coordinates")
+                if doc.structured == Some(StructuredXml::Rectilinear) =>
+            {
+                Ctx::Coordinates
+            }
             (Some(Ctx::Piece), t) if doc.poly_data && poly_section(t).is_some() => {
                 section = poly_section(t);
                 Ctx::Poly
@@ -454,6 +571,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                     | Ctx::CellData
                     | Ctx::Points
                     | Ctx::Cells
+                    | Ctx::Coordinates
                     | Ctx::Poly),
                 ),
                 b"DataArray" | b"Array",
@@ -512,6 +630,7 @@ fn attach(
             p.points = Some(a);
         }
         Ctx::Cells => last_piece(doc, pos)?.cells.push(a),
+        Ctx::Coordinates => last_piece(doc, pos)?.coordinates.push(a),
         Ctx::Poly => {
             let p = last_piece(doc, pos)?;
             if let Some(entry) = p.poly.iter_mut().find(|e| Some(e.0) == section) {
