@@ -16,6 +16,12 @@ image_ascii.vti   the same, one piece, ascii.
 image_slice.vti   a 6 x 1 x 4 x-z slice (pixels), zlib-compressed.
 rect.vtr          uneven x, y, z coordinates (Float64 x, Float32 y and z), base64 binary.
 curvi.vts         a quarter of a thick cylinder (r 1..2, 90 degrees, z 0..1), 4 x 6 x 3 points.
+parallel/wavelet.pvti, parallel/wavelet_sg.pvts, parallel/rect.pvtr
+                  parallel files from VTK's parallel writers (vtkXMLP*Writer), each naming its
+                  piece files: the wavelet in 3 pieces as image data and as a structured grid
+                  (vtkImageDataToPointSet), a rectilinear grid in 2 pieces (which VTK writes, from
+                  an unstreamed source, as two copies of the whole extent); beside each,
+                  *_vtk.vtu, what VTK's parallel reader gives, through vtkAppendFilter.
 image.vtk, rect.vtk, curvi.vtk
                   the same three data sets as legacy STRUCTURED_POINTS (ASCII, version 5.1;
                   VTK's writer keeps 6 digits of the origin, about 11 of the data, and drops the
@@ -63,11 +69,13 @@ def rect():
     r = vtk.vtkRectilinearGrid()
     xs, ys, zs = [0.0, 0.1, 0.35, 1.0], [-1.0, -0.5, 2.0], [3.0, 3.5, 4.25, 5.0, 7.0]
     r.SetDimensions(len(xs), len(ys), len(zs))
-    for vals, arr, setter in (
-        (xs, vtk.vtkDoubleArray(), r.SetXCoordinates),
-        (ys, vtk.vtkFloatArray(), r.SetYCoordinates),
-        (zs, vtk.vtkFloatArray(), r.SetZCoordinates),
+    for vals, arr, setter, name in (
+        (xs, vtk.vtkDoubleArray(), r.SetXCoordinates, "x"),
+        (ys, vtk.vtkFloatArray(), r.SetYCoordinates, "y"),
+        (zs, vtk.vtkFloatArray(), r.SetZCoordinates, "z"),
     ):
+        # Named, or VTK names them by their address and each run writes another file.
+        arr.SetName(name)
         for v in vals:
             arr.InsertNextValue(v)
         setter(arr)
@@ -147,6 +155,35 @@ def main():
     assert w.Write() == 1
     wave.UpdateWholeExtent()
     as_vtu("wavelet_vtk.vtu", wave.GetOutput())
+    parallel(wave)
+
+
+def parallel(wave):
+    os.makedirs(os.path.join(OUT, "parallel"), exist_ok=True)
+    sg = vtk.vtkImageDataToPointSet()
+    sg.SetInputConnection(wave.GetOutputPort())
+    rg = rect()
+    cut = vtk.vtkExtractRectilinearGrid()
+    cut.SetInputData(rg)
+    cut.SetVOI(0, 3, 0, 2, 0, 4)
+    for writer, reader, name, port, pieces in (
+        (vtk.vtkXMLPImageDataWriter, vtk.vtkXMLPImageDataReader, "wavelet.pvti", wave, 3),
+        (vtk.vtkXMLPStructuredGridWriter, vtk.vtkXMLPStructuredGridReader, "wavelet_sg.pvts", sg, 3),
+        (vtk.vtkXMLPRectilinearGridWriter, vtk.vtkXMLPRectilinearGridReader, "rect.pvtr", cut, 2),
+    ):
+        path = os.path.join(OUT, "parallel", name)
+        w = writer()
+        w.SetFileName(path)
+        w.SetInputConnection(port.GetOutputPort())
+        w.SetNumberOfPieces(pieces)
+        w.SetStartPiece(0)
+        w.SetEndPiece(pieces - 1)
+        w.SetCompressorTypeToNone()
+        assert w.Write() == 1, name
+        r = reader()
+        r.SetFileName(path)
+        r.Update()
+        as_vtu(os.path.join("parallel", name.split(".")[0] + "_vtk.vtu"), r.GetOutput())
 
 
 if __name__ == "__main__":

@@ -108,6 +108,21 @@ fn structured_files_read_as_vtk_converts_them() {
         ("rect.vtk", "rect_vtk.vtu", cell_type::VOXEL),
         ("curvi.vts", "curvi_vtk.vtu", cell_type::HEXAHEDRON),
         ("curvi.vtk", "curvi_vtk.vtu", cell_type::HEXAHEDRON),
+        (
+            "parallel/wavelet.pvti",
+            "parallel/wavelet_vtk.vtu",
+            cell_type::VOXEL,
+        ),
+        (
+            "parallel/wavelet_sg.pvts",
+            "parallel/wavelet_sg_vtk.vtu",
+            cell_type::HEXAHEDRON,
+        ),
+        (
+            "parallel/rect.pvtr",
+            "parallel/rect_vtk.vtu",
+            cell_type::VOXEL,
+        ),
     ];
     let mut problems = Vec::new();
     for (file, reference, ty) in cases {
@@ -156,6 +171,59 @@ fn pieces_sharing_boundaries_make_one_lattice() {
     // Two pieces that each hold the whole extent read as one.
     let g = read("image.vti");
     assert_eq!((g.num_points(), g.num_cells()), (60, 24));
+    // The same from parallel files naming one piece file each.
+    let g = read("parallel/wavelet.pvti");
+    assert_eq!((g.num_points(), g.num_cells()), (9 * 7 * 3, 8 * 6 * 2));
+    assert!(formats::read(&fixture("structured/wavelet.vti"))
+        .unwrap()
+        .point_data
+        .get("RTData")
+        .unwrap()
+        .bit_eq(g.point_data.get("RTData").unwrap()));
+}
+
+#[test]
+fn broken_parallel_structured_files_name_the_piece() {
+    let dir = tempdir();
+    let src = fixture("structured/parallel");
+    for f in [
+        "wavelet_0.vti",
+        "wavelet_1.vti",
+        "wavelet_2.vti",
+        "rect_0.vtr",
+    ] {
+        std::fs::copy(src.join(f), dir.path().join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(src.join("wavelet.pvti")).unwrap();
+    let cases = [
+        // A piece of another type.
+        (
+            "other.pvti",
+            text.replace("wavelet_2.vti", "rect_0.vtr"),
+            vec!["other.pvti", "piece 2", "RectilinearGrid", "ImageData"],
+        ),
+        // An extent the piece file does not hold.
+        (
+            "extent.pvti",
+            text.replace("Extent=\"-4 -2 -3 3 0 2\"", "Extent=\"-4 -1 -3 3 0 2\""),
+            vec!["extent.pvti", "piece 0", "does not match"],
+        ),
+        // Pieces that leave a hole in the whole extent.
+        (
+            "hole.pvti",
+            text.replace(
+                "<Piece Extent=\"-2 4 0 3 0 2\" Source=\"wavelet_2.vti\"/>",
+                "",
+            ),
+            vec!["hole.pvti", "uncovered"],
+        ),
+    ];
+    for (name, body, needles) in cases {
+        assert_ne!(body, text, "{name}: the fixture text changed");
+        let p = dir.path().join(name);
+        std::fs::write(&p, body).unwrap();
+        tetkit(["info", p.to_str().unwrap()]).assert_failure(&needles);
+    }
 }
 
 #[test]

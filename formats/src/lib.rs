@@ -1,6 +1,7 @@
 //! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen,
-//! Medit; readers for the VTK collections (.vtm, .pvd) that name them, for VTK's structured data
-//! (.vti, .vtr, .vts and their legacy forms, as voxels and hexahedra) and for polydata (.vtp).
+//! Medit; readers for Gmsh's .msh, for the VTK collections (.vtm, .pvd) that name meshes, for
+//! VTK's structured data (.vti, .vtr, .vts and their legacy forms, as voxels and hexahedra) and
+//! for polydata (.vtp).
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the
@@ -13,6 +14,7 @@ pub mod error;
 pub mod grid;
 pub mod legacy;
 pub mod medit;
+pub mod msh;
 pub(crate) mod structured;
 pub mod tetgen;
 pub mod vtu;
@@ -49,12 +51,17 @@ pub enum Format {
     Vts,
     /// VTK XML polydata, `.vtp`: vertices, lines, polygons and strips (read only).
     Vtp,
+    /// VTK XML parallel structured data, `.pvti`, `.pvtr`, `.pvts`: pieces joined into one
+    /// lattice (read only).
+    PStructured,
     /// ASCII Medit (INRIA) `.mesh`, as MMG, TetGen `-g` and Gmsh write it.
     Medit,
+    /// Gmsh mesh, `.msh` (MSH 4.1 and 2.2; read only).
+    Msh,
 }
 
 /// The extensions [`Format::from_path`] knows, for messages.
-const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .vtm, .pvd, .vti, .vtr, .vts or .vtp";
+const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .msh, .vtm, .pvd, .vti, .vtr, .vts, .pvti, .pvtr, .pvts or .vtp";
 
 impl Format {
     /// The format a path's extension names.
@@ -74,11 +81,13 @@ impl Format {
             "vtr" => Ok(Format::Vtr),
             "vts" => Ok(Format::Vts),
             "vtp" => Ok(Format::Vtp),
+            "pvti" | "pvtr" | "pvts" => Ok(Format::PStructured),
             "mesh" => Ok(Format::Medit),
             "meshb" => Err(FormatError::whole(
                 "binary Medit (.meshb) is not supported; tetkit reads and writes ASCII .mesh",
             )
             .with_file(path)),
+            "msh" => Ok(Format::Msh),
             "" => Err(
                 FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
             ),
@@ -103,6 +112,7 @@ impl Format {
             "vts" => Some(Format::Vts),
             "vtp" => Some(Format::Vtp),
             "medit" | "mesh" => Some(Format::Medit),
+            "msh" | "gmsh" => Some(Format::Msh),
             _ => None,
         }
     }
@@ -111,7 +121,14 @@ impl Format {
     pub fn read_only(self) -> bool {
         matches!(
             self,
-            Format::Vtm | Format::Pvd | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp
+            Format::Vtm
+                | Format::Pvd
+                | Format::Vti
+                | Format::Vtr
+                | Format::Vts
+                | Format::Vtp
+                | Format::Msh
+                | Format::PStructured
         )
     }
 
@@ -127,16 +144,19 @@ impl Format {
             Format::Vtr => "VTR (rectilinear grid)",
             Format::Vts => "VTS (structured grid)",
             Format::Vtp => "VTP (polydata)",
+            Format::PStructured => "parallel structured data (.pvti/.pvtr/.pvts)",
             Format::Medit => "Medit",
+            Format::Msh => "Gmsh MSH",
         }
     }
 }
 
 /// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
 /// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
-/// (PVD), or `# vtk DataFile` (legacy). TetGen files have no magic.
+/// (PVD), `# vtk DataFile` (legacy), or `$MeshFormat` (Gmsh; `$NOD`, MSH 1, too, so that its
+/// reader can refuse it by name). TetGen files have no magic.
 /// The `type` attribute of the `<VTKFile ...>` element in `text`, when the element is there.
-fn vtkfile_type(text: &str) -> Option<&str> {
+pub(crate) fn vtkfile_type(text: &str) -> Option<&str> {
     let start = text.find("<VTKFile")?;
     let tag = &text[start..];
     let tag = &tag[..tag.find('>')?];
@@ -188,6 +208,9 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
     if medit_head(&text) {
         return Some(Format::Medit);
     }
+    if trimmed.starts_with("$MeshFormat") || trimmed.starts_with("$NOD") {
+        return Some(Format::Msh);
+    }
     if trimmed.starts_with('<') {
         // The root's `type` decides: a VTU whose first lines quote another type's name (in a
         // string array or an information key) is still a VTU.
@@ -203,6 +226,7 @@ pub fn sniff(bytes: &[u8]) -> Option<Format> {
                 "RectilinearGrid" => Some(Format::Vtr),
                 "StructuredGrid" => Some(Format::Vts),
                 "PolyData" => Some(Format::Vtp),
+                "PImageData" | "PRectilinearGrid" | "PStructuredGrid" => Some(Format::PStructured),
                 _ => None,
             };
         }
@@ -297,7 +321,7 @@ pub fn read(path: &Path) -> Result<Grid> {
             check_sniff(path, format, &bytes)?;
             medit::read_bytes(&bytes, path)?
         }
-        Format::Pvtu => {
+        Format::Pvtu | Format::PStructured => {
             let bytes = read_file(path)?;
             check_sniff(path, format, &bytes)?;
             vtu::pvtu::read(path, &bytes)?
@@ -309,6 +333,10 @@ pub fn read(path: &Path) -> Result<Grid> {
         Format::Legacy => {
             check_sniff(path, format, &read_head(path)?)?;
             legacy::read_path(path)?
+        }
+        Format::Msh => {
+            check_sniff(path, format, &read_head(path)?)?;
+            msh::read_path(path)?
         }
     };
     checked(grid, path)
@@ -357,7 +385,8 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
         Format::Vtu | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
         Format::Medit => medit::read_bytes(bytes, Path::new("<input>"))?,
-        Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd => {
+        Format::Msh => msh::read_from(bytes, None)?,
+        Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd | Format::PStructured => {
             return Err(FormatError::whole(format!(
                 "{} needs files beside it and cannot be read from a stream",
                 format.name()

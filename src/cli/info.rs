@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .vtm, .pvd or FILE.pvd@STEP), or - for stdin.
+    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .vtm, .pvd, .vti/.vtr/.vts, FILE.pvd@STEP), or - for stdin.
     pub input: PathBuf,
     /// Print JSON for scripts.
     #[arg(long)]

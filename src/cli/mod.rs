@@ -32,7 +32,8 @@ pub struct Cli {
 pub enum Command {
     /// Print counts, cell types, bounds and every data array of a mesh.
     Info(info::InfoArgs),
-    /// Convert between VTU, PVTU, legacy VTK, TetGen and Medit, optionally tetrahedralizing.
+    /// Convert between VTU, PVTU, legacy VTK, TetGen and Medit (and read Gmsh MSH, VTK collections
+    /// and structured data), optionally tetrahedralizing.
     Convert(convert::ConvertArgs),
     /// Split a tet mesh with a K-D tree (exact, conforming) and write the split mesh and the tree.
     Partition(partition::PartitionArgs),
@@ -90,7 +91,7 @@ fn default_sigpipe() {
     }
 }
 
-/// Reads a mesh from a path, or from stdin for `-` (VTU, legacy VTK or Medit, sniffed from the
+/// Reads a mesh from a path, or from stdin for `-` (VTU, legacy VTK, Medit or Gmsh MSH, sniffed from the
 /// content).
 pub fn read_input(path: &std::path::Path) -> anyhow::Result<formats::Grid> {
     use anyhow::Context;
@@ -99,7 +100,7 @@ pub fn read_input(path: &std::path::Path) -> anyhow::Result<formats::Grid> {
         std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes)
             .context("reading stdin")?;
         let format = formats::sniff(&bytes).ok_or_else(|| {
-            anyhow::anyhow!("<stdin>: byte 0: not a VTU, legacy VTK or Medit stream")
+            anyhow::anyhow!("<stdin>: byte 0: not a VTU, legacy VTK, Medit or Gmsh MSH stream")
         })?;
         return formats::read_bytes(&bytes, format).map_err(|mut e| {
             e.file = Some("<stdin>".into());

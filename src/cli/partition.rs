@@ -22,8 +22,8 @@ pub enum StrategyArg {
 
 #[derive(Args, Debug)]
 pub struct PartitionArgs {
-    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh); non-tet 3-D cells are tetrahedralized, 2-D and
-    /// lower cells dropped.
+    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .vtm, .pvd, .vti/.vtr/.vts); non-tet 3-D cells are
+    /// tetrahedralized, 2-D and lower cells dropped.
     pub input: PathBuf,
     /// The split mesh (.vtu): cell data leaf_id and original_cell_id, the tree in field data.
     #[arg(short = 'o', long = "output")]

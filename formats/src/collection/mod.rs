@@ -55,11 +55,12 @@ impl Chain {
 enum Kind {
     /// An unstructured grid, polydata or structured data set tetkit reads into a [`Grid`].
     Mesh,
+    /// A .pvtu, or parallel structured data (.pvti, .pvtr, .pvts).
     Pvtu,
     Legacy,
     Vtm,
     Pvd,
-    /// Parallel structured, AMR or other VTK data tetkit does not read: skipped.
+    /// Parallel polydata, AMR or other VTK data tetkit does not read: skipped.
     Other(&'static str),
 }
 
@@ -67,13 +68,10 @@ fn kind(path: &Path) -> Option<Kind> {
     let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
     Some(match ext.as_str() {
         "vtu" | "vtp" | "vti" | "vtr" | "vts" => Kind::Mesh,
-        "pvtu" => Kind::Pvtu,
+        "pvtu" | "pvti" | "pvtr" | "pvts" => Kind::Pvtu,
         "vtk" => Kind::Legacy,
         "vtm" | "vtmb" => Kind::Vtm,
         "pvd" => Kind::Pvd,
-        "pvti" => Kind::Other("parallel image data"),
-        "pvts" => Kind::Other("a parallel structured grid"),
-        "pvtr" => Kind::Other("a parallel rectilinear grid"),
         "pvtp" => Kind::Other("parallel polydata"),
         "vthb" | "vth" => Kind::Other("an AMR data set"),
         "vtpc" | "vtpd" => Kind::Other("a partitioned data set"),

@@ -1,7 +1,10 @@
 //! Parallel VTU (.pvtu): a small XML file naming .vtu pieces, read into one merged grid, and
-//! written as that file plus a folder of pieces (all files appear, or none do).
+//! written as that file plus a folder of pieces (all files appear, or none do). The parallel
+//! structured files (.pvti, .pvtr, .pvts) are read the same way, their pieces joined by extent
+//! into one lattice.
 
 use crate::atomic::write_all_or_none;
+use crate::structured::{self, Lattice};
 use crate::{FormatError, Grid, Result, WriteOptions};
 use quick_xml::escape::escape;
 use quick_xml::events::Event;
@@ -23,6 +26,28 @@ struct Index {
     sources: Vec<String>,
     point: Vec<Declared>,
     cell: Vec<Declared>,
+    /// Parallel structured data: the serial type its pieces are, and each piece's `Extent`.
+    structured: Option<(&'static str, Lattice)>,
+    extents: Vec<[i64; 6]>,
+}
+
+/// The serial type and cell kind of a parallel structured root type.
+fn structured_kind(root: &str) -> Option<(&'static str, Lattice)> {
+    Some(match root {
+        "PImageData" => ("ImageData", Lattice::Axis),
+        "PRectilinearGrid" => ("RectilinearGrid", Lattice::Axis),
+        "PStructuredGrid" => ("StructuredGrid", Lattice::Curvilinear),
+        _ => return None,
+    })
+}
+
+fn parse_extent(v: &str, pos: u64) -> Result<[i64; 6]> {
+    let bad = || FormatError::at_byte(pos, format!("Extent=\"{v}\" is not six integers"));
+    let nums = v
+        .split_whitespace()
+        .map(|t| t.parse::<i64>().map_err(|_| bad()))
+        .collect::<Result<Vec<_>>>()?;
+    <[i64; 6]>::try_from(nums).map_err(|_| bad())
 }
 
 /// Where a `<PDataArray>` belongs.
@@ -75,11 +100,15 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
                 match e.local_name().as_ref() {
                     b"VTKFile" => match get(b"type")?.as_deref() {
                         Some("PUnstructuredGrid") => root_ok = true,
+                        Some(t) if structured_kind(t).is_some() => {
+                            root_ok = true;
+                            index.structured = structured_kind(t);
+                        }
                         other => {
                             return Err(FormatError::at_byte(
                                 pos,
                                 format!(
-                                    "VTKFile type is {:?}, expected \"PUnstructuredGrid\"",
+                                    "VTKFile type is {:?}, expected \"PUnstructuredGrid\", \"PImageData\", \"PRectilinearGrid\" or \"PStructuredGrid\"",
                                     other.unwrap_or("(none)")
                                 ),
                             ))
@@ -89,6 +118,12 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
                         let src = get(b"Source")?.ok_or_else(|| {
                             FormatError::at_byte(pos, "<Piece> without a Source attribute")
                         })?;
+                        if index.structured.is_some() {
+                            let e = get(b"Extent")?.ok_or_else(|| {
+                                FormatError::at_byte(pos, "a structured <Piece> without an Extent")
+                            })?;
+                            index.extents.push(parse_extent(&e, pos)?);
+                        }
                         index.sources.push(src);
                     }
                     b"PPointData" if !empty => section = Section::Point,
@@ -120,7 +155,7 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
     if !root_ok {
         return Err(FormatError::at_byte(
             0,
-            "no <VTKFile type=\"PUnstructuredGrid\">",
+            "no <VTKFile type=\"PUnstructuredGrid\"> (or PImageData, PRectilinearGrid, PStructuredGrid)",
         ));
     }
     Ok(index)
@@ -210,21 +245,50 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
             )
             .with_file(path));
         }
-        // A piece is read as a .vtu; one naming a .pvtu (itself, or another collection) would
-        // fail with "this is a parallel file: name it .pvtu", which blames the wrong file.
-        if p.extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("pvtu"))
-        {
+        // A piece is read as a serial file of the parallel file's own type; one naming a parallel
+        // file (itself, or another collection) would fail with a message blaming the wrong file.
+        let want = index
+            .structured
+            .map_or("UnstructuredGrid", |(serial, _)| serial);
+        let head = {
+            use std::io::Read;
+            let mut head = Vec::with_capacity(4096);
+            std::fs::File::open(&p)
+                .and_then(|f| f.take(4096).read_to_end(&mut head))
+                .map_err(|e| FormatError::io(&p, e))?;
+            head
+        };
+        let found = crate::vtkfile_type(&String::from_utf8_lossy(&head)).map(str::to_string);
+        if found.as_deref() != Some(want) {
             return Err(FormatError::new(
                 crate::Place::Other(format!("piece {i}")),
                 format!(
-                    "piece file '{}' is a .pvtu itself; pieces must be .vtu files",
-                    p.display()
+                    "piece file '{}' is {}; the pieces of this file must be {want} files",
+                    p.display(),
+                    found.map_or("not a VTK XML file".to_string(), |t| format!("of type {t}"))
                 ),
             )
             .with_file(path));
         }
         let mut g = super::read_path(&p)?;
+        if let Some(e) = index.extents.get(i) {
+            let counted = structured::dims(*e).and_then(structured::counts);
+            let fits = counted
+                .as_ref()
+                .is_ok_and(|&(np, nc)| np == g.num_points() && nc == g.num_cells());
+            if !fits {
+                return Err(FormatError::new(
+                    crate::Place::Other(format!("piece {i}")),
+                    format!(
+                        "the piece's Extent {e:?} does not match '{}' ({} points, {} cells)",
+                        p.display(),
+                        g.num_points(),
+                        g.num_cells()
+                    ),
+                )
+                .with_file(path));
+            }
+        }
         declared_only(
             &mut g.point_data,
             &index.point,
@@ -245,6 +309,11 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
         .unwrap_or_default();
     let mut g = super::read::merge(grids).map_err(|e| e.with_file(path))?;
     g.field_data = field;
+    if let Some((_, lattice)) = index.structured {
+        // Each piece's points came from its own file, so they are gathered, not recomputed.
+        g = structured::join_pieces(&index.extents, g, lattice, None)
+            .map_err(|m| FormatError::whole(m).with_file(path))?;
+    }
     Ok(g)
 }
 

@@ -423,7 +423,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                         return Err(FormatError::at_byte(
                             pos,
                             format!(
-                                "this is a parallel file ({t}); tetkit reads its pieces (.vti, .vtr, .vts) one at a time, or the .vtm/.pvd that names them"
+                                "this is a parallel file ({t}): name it .pvti, .pvtr or .pvts"
                             ),
                         ))
                     }
