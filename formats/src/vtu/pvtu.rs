@@ -263,9 +263,15 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
             return Err(FormatError::new(
                 crate::Place::Other(format!("piece {i}")),
                 format!(
-                    "piece file '{}' is {}; the pieces of this file must be {want} files",
+                    "piece file '{}' is {}; pieces must be .{} files ({want})",
                     p.display(),
-                    found.map_or("not a VTK XML file".to_string(), |t| format!("of type {t}"))
+                    found.map_or("not a VTK XML file".to_string(), |t| format!("of type {t}")),
+                    match want {
+                        "ImageData" => "vti",
+                        "RectilinearGrid" => "vtr",
+                        "StructuredGrid" => "vts",
+                        _ => "vtu",
+                    }
                 ),
             )
             .with_file(path));
