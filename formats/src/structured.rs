@@ -57,6 +57,35 @@ pub(crate) fn counts(dims: Option<[usize; 3]>) -> Result<(usize, usize), String>
     Ok((np, nc))
 }
 
+/// Physical memory in bytes (Linux `/proc/meminfo`), or `None` where it cannot be read.
+fn physical_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// Refuses a lattice whose points and cells would not fit in this machine's memory, before any
+/// of it is made: they are made, not read, so a few header bytes can declare 10^9 cells, and
+/// filling an allocation the kernel granted on credit would end in the OOM killer, not an error.
+fn check_size(dims: [usize; 3]) -> Result<(), String> {
+    let np = dims.iter().map(|&n| n as f64).product::<f64>();
+    let nc = dims.iter().map(|&n| (n.max(2) - 1) as f64).product::<f64>();
+    // Float64 points, eight i64 corners, an offset and a type per cell.
+    let need = np * 24.0 + nc * (8.0 * 8.0 + 9.0);
+    match physical_memory() {
+        Some(have) if need > have as f64 => Err(format!(
+            "a {} x {} x {} lattice needs about {:.1} GiB for its points and cells; this machine has {:.1} GiB",
+            dims[0],
+            dims[1],
+            dims[2],
+            need / (1u64 << 30) as f64,
+            have as f64 / (1u64 << 30) as f64
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// `n` zeros, or an error when the allocation fails: a lattice's points and cells are made, not
 /// read, so a small file can declare more of them than memory holds.
 fn zeroed<T: Clone + Default>(n: usize, what: &str) -> Result<Vec<T>, String> {
@@ -124,6 +153,7 @@ pub(crate) fn cells(dims: Option<[usize; 3]>, lattice: Lattice) -> Result<Cells,
     let Some(d) = dims else {
         return Ok(Cells::new());
     };
+    check_size(d)?;
     let stride = [1, d[0], d[0] * d[1]];
     // The axes with more than one point, in order; a cell steps along these only.
     let axes: Vec<usize> = (0..3).filter(|&a| d[a] > 1).collect();
@@ -207,6 +237,7 @@ pub(crate) fn image_points(
     let Some(d) = dims else {
         return Ok(DataArray::new("Points", 3, ArrayData::Float64(Vec::new())));
     };
+    check_size(d)?;
     let m = image.direction;
     let mut v: Vec<f64> = zeroed(d[0] * d[1] * d[2] * 3, "points")?;
     v.par_chunks_mut(3 * d[0])
@@ -228,6 +259,7 @@ pub(crate) fn image_points(
 /// against the extent). Float32 when all three are Float32, else Float64.
 pub(crate) fn rectilinear_points(axes: [&ArrayData; 3]) -> Result<DataArray, String> {
     let (nx, ny, nz) = (axes[0].len(), axes[1].len(), axes[2].len());
+    check_size([nx, ny, nz])?;
     let all_f32 = axes.iter().all(|a| matches!(a, ArrayData::Float32(_)));
     let c: Vec<Vec<f64>> = axes.iter().map(|a| a.to_f64_vec()).collect();
     let mut v: Vec<f64> = zeroed(nx * ny * nz * 3, "points")?;
@@ -371,7 +403,7 @@ mod tests {
             d,
         )
         .unwrap_err();
-        assert!(e.contains("more than this machine can allocate"), "{e}");
+        assert!(e.contains("this machine has"), "{e}");
         assert!(cells(d, Lattice::Axis).is_err());
     }
 
