@@ -418,11 +418,31 @@ impl<'a> File<'a> {
                 .checked_div(recsize)
                 .unwrap_or(0);
         }
+        // Records that the file cannot hold mean a corrupt numrecs; refusing it here keeps every
+        // loop over the steps bounded by the file's size.
+        let first = rec_vars.iter().map(|&i| f.vars[i].begin).min().unwrap_or(0);
+        let fits = match recsize {
+            0 => numrecs <= bytes.len() as u64,
+            r => numrecs
+                .checked_mul(r)
+                .and_then(|n| n.checked_add(first))
+                .is_some_and(|end| end <= bytes.len() as u64),
+        };
+        if !fits {
+            return Err(FormatError::at_byte(
+                4,
+                format!(
+                    "numrecs {numrecs} records of {recsize} bytes from byte {first} run past the end of the file ({} bytes)",
+                    bytes.len()
+                ),
+            )
+            .with_file(path));
+        }
         f.numrecs = numrecs;
         Ok(f)
     }
 
-    fn is_record(&self, var: usize) -> bool {
+    pub fn is_record(&self, var: usize) -> bool {
         self.vars[var]
             .dims
             .first()

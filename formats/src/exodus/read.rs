@@ -177,7 +177,16 @@ fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>
                 .collect::<Result<Vec<i32>>>()?
         }
         // No ids: number the blocks from 1, as they are named connect1, connect2, ...
-        None => (1..=n.min(i32::MAX as u64) as i32).collect(),
+        None => {
+            // Each block has a dimension or variable of its own: a larger count is corrupt.
+            if n > (f.dims.len() + f.vars.len()) as u64 {
+                return Err(FormatError::whole(format!(
+                    "num_el_blk is {n}, more blocks than the file describes"
+                ))
+                .with_file(f.path));
+            }
+            (1..=n as i32).collect()
+        }
     };
     let mut out = Vec::with_capacity(ids.len());
     for (b, &id) in ids.iter().enumerate() {
@@ -189,6 +198,9 @@ fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>
             out.push(Block { id, cells: 0 });
             continue;
         };
+        if f.is_record(v) {
+            return Err(f.err_var(v, "is a record variable; connectivity is fixed"));
+        }
         let var = &f.vars[v];
         let elem_type = var
             .attrs
