@@ -57,6 +57,18 @@ pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
     Some((file, sel))
 }
 
+/// The times of the file's steps (`time_whole`; NaN where a step has none), for listing.
+pub fn times(path: &Path) -> Result<Vec<f64>> {
+    let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
+    let f = netcdf::File::parse(&bytes, path)?;
+    let Some(v) = f.var("time_whole") else {
+        return Ok(vec![f64::NAN; f.numrecs as usize]);
+    };
+    (0..f.numrecs)
+        .map(|k| Ok(f.values::<f64>(v, k)?.first().copied().unwrap_or(f64::NAN)))
+        .collect()
+}
+
 /// Reads time step `sel` of the Exodus file at `path` (see [`read_from`]).
 pub fn read_path(path: &Path, sel: Selector) -> Result<Grid> {
     let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
