@@ -15,9 +15,9 @@ use std::path::{Path, PathBuf};
 pub mod names {
     /// Cell array: the element block id (`eb_prop1`), as VTK's Exodus reader names it.
     pub const OBJECT_ID: &str = "ObjectId";
-    /// Cell array from `elem_num_map`.
+    /// Cell array from `elem_num_map` (1, 2, ... without one).
     pub const ELEMENT_ID: &str = "GlobalElementId";
-    /// Point array from `node_num_map`.
+    /// Point array from `node_num_map` (1, 2, ... without one).
     pub const NODE_ID: &str = "GlobalNodeId";
     /// Field data: the block names (`eb_names`) in block order.
     pub const BLOCK_NAMES: &str = "exodus:block_names";
@@ -81,8 +81,8 @@ pub fn read_path(path: &Path, sel: Selector) -> Result<Grid> {
 /// their stored precision. Cells are the element blocks' elements, block by block as VTK's
 /// reader numbers them, with Exodus's node order mapped to VTK's (HEX20, HEX27 and WEDGE15
 /// differ). Cell arrays: `ObjectId` (Int32 block id), `GlobalElementId` (Int64, from
-/// `elem_num_map`) and the element variables of step `sel` (NaN in blocks the truth table leaves
-/// out); point arrays: `GlobalNodeId` (Int64, from `node_num_map`), the nodal variables of the
+/// `elem_num_map`, or 1, 2, ... as Exodus numbers elements without one) and the element variables of step `sel` (NaN in blocks the truth table leaves
+/// out); point arrays: `GlobalNodeId` (Int64, from `node_num_map` or 1, 2, ...), the nodal variables of the
 /// step and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times),
 /// `exodus:block_names`, and each global variable over all steps. Side sets are skipped with a
 /// warning; QA and info records are skipped. NetCDF-4 (HDF5) files are refused.

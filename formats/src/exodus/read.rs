@@ -242,10 +242,11 @@ fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>
     Ok(out)
 }
 
-/// A node or element number map, when the file has one of the expected length.
+/// A node or element number map; a file without one numbers its objects 1, 2, ... (Exodus's
+/// default map, which VTK's reader gives too).
 fn id_map(f: &File<'_>, name: &str, expect: usize) -> Result<Option<Vec<i64>>> {
     let Some(v) = f.var(name) else {
-        return Ok(None);
+        return Ok(Some((1..=expect as i64).collect()));
     };
     let map: Vec<i64> = f.values(v, 0)?;
     if map.len() != expect {

@@ -510,6 +510,11 @@ fn node_orders_follow_vtk() {
     assert_eq!(g.cells.types[0], ct::QUADRATIC_HEXAHEDRON);
     let want: Vec<i64> = (0..12).chain(16..20).chain(12..16).collect();
     assert_eq!(g.cells.cell(0), want.as_slice());
+    // Without node_num_map the nodes are numbered 1, 2, ... as Exodus and VTK's reader have it.
+    assert_eq!(
+        g.point_data.get(names::NODE_ID).unwrap().data,
+        ArrayData::Int64((1..=20).collect())
+    );
 }
 
 /// A change that spoils a good file.
