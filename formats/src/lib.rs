@@ -1,7 +1,7 @@
 //! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen,
-//! Medit; readers for Gmsh's .msh, for the VTK collections (.vtm, .pvd) that name meshes, for
-//! VTK's structured data (.vti, .vtr, .vts and their legacy forms, as voxels and hexahedra) and
-//! for polydata (.vtp).
+//! Medit; readers for Gmsh's .msh, for Exodus II (classic NetCDF), for the VTK collections (.vtm,
+//! .pvd) that name meshes, for VTK's structured data (.vti, .vtr, .vts and their legacy forms, as
+//! voxels and hexahedra) and for polydata (.vtp).
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the
