@@ -207,13 +207,9 @@ fn medit_head(text: &str) -> bool {
 /// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
 /// (PVD), `# vtk DataFile` (legacy), `$MeshFormat` (Gmsh; `$NOD`, MSH 1, too, so that its
 /// reader can refuse it by name), or classic NetCDF's `CDF\x01`, `CDF\x02`, `CDF\x05` (Exodus
-/// II; NetCDF-4's HDF5 magic too, so that the reader can refuse it by name). TetGen files have
-/// no magic.
+/// II). TetGen files have no magic.
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
-    if matches!(
-        bytes.get(..4),
-        Some(b"CDF\x01" | b"CDF\x02" | b"CDF\x05" | b"\x89HDF")
-    ) {
+    if matches!(bytes.get(..4), Some(b"CDF\x01" | b"CDF\x02" | b"CDF\x05")) {
         return Some(Format::Exodus);
     }
     let head = &bytes[..bytes.len().min(4096)];
@@ -323,8 +319,9 @@ pub fn read(path: &Path) -> Result<Grid> {
         return checked(pvd::read_selected(&file, sel)?, path);
     }
     if let Some((file, sel)) = exodus::split_selector(path) {
-        check_sniff(&file, Format::Exodus, &read_head(&file)?)?;
-        return checked(exodus::read_path(&file, sel)?, path);
+        let bytes = read_file(&file)?;
+        check_exodus_sniff(&file, &bytes)?;
+        return checked(exodus::read_from(&bytes, &file, sel)?, path);
     }
     let format = Format::from_path(path)?;
     let grid = match format {
@@ -361,7 +358,7 @@ pub fn read(path: &Path) -> Result<Grid> {
         }
         Format::Exodus => {
             let bytes = read_file(path)?;
-            check_sniff(path, format, &bytes)?;
+            check_exodus_sniff(path, &bytes)?;
             exodus::read_from(&bytes, path, pvd::Selector::Index(0))?
         }
     };
@@ -372,6 +369,15 @@ fn checked(grid: Grid, path: &Path) -> Result<Grid> {
     grid.validate()
         .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")).with_file(path))?;
     Ok(grid)
+}
+
+/// An `.exo` whose content is another format's is refused as such; content of no known format
+/// (NetCDF-4's HDF5, say) is left to the Exodus reader, which says what it is.
+fn check_exodus_sniff(path: &Path, bytes: &[u8]) -> Result<()> {
+    match sniff(bytes) {
+        None => Ok(()),
+        Some(_) => check_sniff(path, Format::Exodus, bytes),
+    }
 }
 
 /// The first 4 KiB of a file, enough to sniff its format without reading it all.
@@ -497,6 +503,21 @@ mod tests {
         assert_eq!(sniff(b"<VTKFile type=\"ImageData\">"), Some(Format::Vti));
         assert_eq!(sniff(b"<VTKFile type=\"Table\">"), None);
         assert_eq!(sniff(b"# vtk DataFile Version 4.2\n"), Some(Format::Legacy));
+    }
+
+    #[test]
+    fn exodus_is_sniffed_by_the_netcdf_magic() {
+        for m in [b"CDF\x01", b"CDF\x02", b"CDF\x05"] {
+            assert_eq!(sniff(m), Some(Format::Exodus));
+        }
+        assert_eq!(sniff(b"CDF\x03"), None);
+        assert_eq!(sniff(b"\x89HDF\r\n"), None);
+        for ext in ["exo", "E", "ex2", "exii", "g", "gen"] {
+            let p = format!("a.{ext}");
+            assert_eq!(Format::from_path(Path::new(&p)).unwrap(), Format::Exodus);
+        }
+        assert_eq!(Format::from_name("exodus"), Some(Format::Exodus));
+        assert!(Format::Exodus.read_only());
     }
 
     #[test]

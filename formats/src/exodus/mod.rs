@@ -69,12 +69,6 @@ pub fn times(path: &Path) -> Result<Vec<f64>> {
         .collect()
 }
 
-/// Reads time step `sel` of the Exodus file at `path` (see [`read_from`]).
-pub fn read_path(path: &Path, sel: Selector) -> Result<Grid> {
-    let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
-    read_from(&bytes, path, sel)
-}
-
 /// Reads an Exodus II file from memory at time step `sel`; `path` names it in errors.
 ///
 /// Points are the nodes (`coordx`/`coordy`/`coordz`, or the older `coord`; z = 0 in 2-D) in

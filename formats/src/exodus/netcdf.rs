@@ -145,7 +145,7 @@ impl FromNc for i64 {
             NcType::UInt64 => {
                 u64::from_be_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]) as i64
             }
-            NcType::Float | NcType::Double => be_f64(ty, b) as i64,
+            // Smaller integers are exact in f64; reals are truncated (and saturated).
             _ => be_f64(ty, b) as i64,
         }
     }
