@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Writes the Exodus II fixtures in fixtures/exodus/ with VTK's vtkExodusIIWriter (NetCDF CDF-2),
-and beside each X.exo what VTK's vtkExodusIIReader makes of it, merged into one grid, as X_vtk.vtu.
+and hand.exo (CDF-1) byte by byte with the cells VTK's writer cannot write; beside each X.exo what
+VTK's vtkExodusIIReader makes of it, its blocks appended into one grid, as X_vtk.vtu.
 
 Run with VTK's Python: /usr/bin/python3 scripts/make_exodus_fixtures.py
 """
 import os
+import struct
 import sys
 
 import vtk
@@ -133,6 +135,147 @@ class TimeSource(VTKPythonAlgorithmBase):
         return 1
 
 
+class Cdf1:
+    """A tiny classic NetCDF (CDF-1) writer, for what VTK's Exodus writer cannot write."""
+
+    TYPES = {"c": 2, "i": 4, "f": 5, "d": 6}
+
+    def __init__(self):
+        self.dims, self.vars, self.numrecs, self.global_attrs = [], [], 0, []
+
+    def dim(self, name, n):
+        names = [d[0] for d in self.dims]
+        if name not in names:
+            self.dims.append((name, n))
+            names.append(name)
+        return names.index(name)
+
+    def var(self, name, dims, kind, values, attrs=()):
+        self.vars.append((name, [self.dim(*d) for d in dims], kind, values, list(attrs)))
+
+    @staticmethod
+    def pad(b):
+        return b + b"\0" * (-len(b) % 4)
+
+    def name(self, s):
+        return struct.pack(">i", len(s)) + self.pad(s.encode())
+
+    def packed(self, kind, values):
+        if kind == "c":
+            return bytes(values)
+        return struct.pack(">%d%s" % (len(values), kind), *values)
+
+    def attrs(self, attrs):
+        if not attrs:
+            return b"\0" * 8
+        out = struct.pack(">ii", 12, len(attrs))
+        for n, kind, v in attrs:
+            out += self.name(n) + struct.pack(">ii", self.TYPES[kind], len(v))
+            out += self.pad(self.packed(kind, v))
+        return out
+
+    def is_record(self, v):
+        return bool(v[1]) and self.dims[v[1][0]][1] == 0
+
+    def header(self, begins):
+        out = b"CDF\x01" + struct.pack(">i", self.numrecs)
+        out += struct.pack(">ii", 10, len(self.dims))
+        for n, l in self.dims:
+            out += self.name(n) + struct.pack(">i", l)
+        out += self.attrs(self.global_attrs)
+        out += struct.pack(">ii", 11, len(self.vars))
+        for v, b in zip(self.vars, begins):
+            size = len(self.pad(self.packed(v[2], v[3])))
+            if self.is_record(v):
+                size //= max(self.numrecs, 1)
+            out += self.name(v[0]) + struct.pack(">i", len(v[1]))
+            out += b"".join(struct.pack(">i", d) for d in v[1])
+            out += self.attrs(v[4]) + struct.pack(">iii", self.TYPES[v[2]], size, b)
+        return out
+
+    def bytes(self):
+        at = len(self.header([0] * len(self.vars)))
+        begins, fixed, records = [], b"", []
+        for v in self.vars:
+            if self.is_record(v):
+                begins.append(None)
+                records.append(v)
+            else:
+                begins.append(at + len(fixed))
+                fixed += self.pad(self.packed(v[2], v[3]))
+        rec_at = at + len(fixed)
+        slabs = [len(self.packed(v[2], v[3])) // max(self.numrecs, 1) for v in records]
+        offset = 0
+        for v, n in zip(records, slabs):
+            begins[self.vars.index(v)] = rec_at + offset
+            offset += n + (-n % 4)
+        data = b""
+        for r in range(self.numrecs):
+            for v, n in zip(records, slabs):
+                data += self.pad(self.packed(v[2], v[3])[r * n:(r + 1) * n])
+        return self.header(begins) + fixed + data
+
+
+def hand_written():
+    """A 27-node hexahedron and a 9-node quadrilateral (which VTK 9.1's writer cannot write),
+    nodes placed in Exodus's order (corners, bottom edges, vertical edges, top edges, centre,
+    faces -z, +z, -x, +x, -y, +y), two time steps, a nodal, an element and a global variable and
+    a node set, written by hand as CDF-1."""
+    c = [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]
+    mid = lambda *k: tuple(np.mean([c[i] for i in k], axis=0))
+    hex27 = c + [mid(0, 1), mid(1, 2), mid(2, 3), mid(3, 0),
+                 mid(0, 4), mid(1, 5), mid(2, 6), mid(3, 7),
+                 mid(4, 5), mid(5, 6), mid(6, 7), mid(7, 4),
+                 (0, 0, 0), (0, 0, -1), (0, 0, 1), (-1, 0, 0), (1, 0, 0), (0, -1, 0), (0, 1, 0)]
+    # Bend the mid nodes a little so that a wrong order shows.
+    hex27 = [p if i < 8 else (p[0] + 0.03 * (i - 8) / 19, p[1], p[2]) for i, p in enumerate(hex27)]
+    quad9 = [(3, -1, 0), (5, -1, 0), (5, 1, 0), (3, 1, 0), (4, -1, 0), (5, 0, 0), (4, 1, 0), (3, 0, 0), (4.1, 0.05, 0)]
+    pts = hex27 + quad9
+    n = len(pts)
+    f = Cdf1()
+    f.numrecs = 2
+    # The attributes the Exodus library wants before it opens a file.
+    f.global_attrs = [("api_version", "f", [8.03]), ("version", "f", [8.03]),
+                      ("floating_point_word_size", "i", [8]), ("file_size", "i", [1]),
+                      ("maximum_name_length", "i", [32]), ("int64_status", "i", [0]),
+                      ("title", "c", list(b"hand-written"))]
+    t = ("time_step", 0)
+    f.dim("len_name", 33)
+    f.dim("num_dim", 3)
+    f.dim("num_nodes", n)
+    f.dim("num_elem", 2)
+    f.dim("num_el_blk", 2)
+    text = lambda rows: [b for r in rows for b in r.encode().ljust(33, b"\0")]
+    f.var("time_whole", [t], "d", [0.0, 0.75])
+    for k, axis in enumerate("xyz"):
+        f.var("coord" + axis, [("num_nodes", n)], "d", [p[k] for p in pts])
+    f.var("eb_prop1", [("num_el_blk", 2)], "i", [5, 6], [("name", "c", list(b"ID"))])
+    f.var("eb_names", [("num_el_blk", 2), ("len_name", 33)], "c", text(["brick", "plate"]))
+    f.var("connect1", [("num_el_in_blk1", 1), ("num_nod_per_el1", 27)], "i", list(range(1, 28)),
+          [("elem_type", "c", list(b"HEX27"))])
+    f.var("connect2", [("num_el_in_blk2", 1), ("num_nod_per_el2", 9)], "i", list(range(28, 37)),
+          [("elem_type", "c", list(b"SHELL9"))])
+    f.dim("num_nod_var", 1)
+    f.var("name_nod_var", [("num_nod_var", 1), ("len_name", 33)], "c", text(["dist"]))
+    f.var("vals_nod_var1", [t, ("num_nodes", n)], "d",
+          [float(np.linalg.norm(p)) * s for s in (1, 2) for p in pts])
+    f.dim("num_elem_var", 1)
+    f.var("name_elem_var", [("num_elem_var", 1), ("len_name", 33)], "c", text(["heat"]))
+    f.var("elem_var_tab", [("num_el_blk", 2), ("num_elem_var", 1)], "i", [0, 1])
+    f.var("vals_elem_var1eb2", [t, ("num_el_in_blk2", 1)], "d", [3.0, 4.0])
+    f.dim("num_glo_var", 1)
+    f.var("name_glo_var", [("num_glo_var", 1), ("len_name", 33)], "c", text(["work"]))
+    f.var("vals_glo_var", [t, ("num_glo_var", 1)], "d", [1.0, 2.0])
+    f.dim("num_node_sets", 1)
+    f.var("ns_prop1", [("num_node_sets", 1)], "i", [1])
+    f.var("ns_names", [("num_node_sets", 1), ("len_name", 33)], "c", text(["bottom"]))
+    f.var("node_ns1", [("num_nod_ns1", 4)], "i", [1, 2, 3, 4])
+    path = os.path.join(OUT, "hand.exo")
+    with open(path, "wb") as out:
+        out.write(f.bytes())
+    reference(path, os.path.join(OUT, "hand_vtk.vtu"))
+
+
 def write(name, source, all_steps=False):
     path = os.path.join(OUT, name + ".exo")
     w = vtk.vtkExodusIIWriter()
@@ -179,6 +322,7 @@ def main():
     write("mixed", mixed())
     write("quadratic", quadratic())
     write("steps", TimeSource(), all_steps=True)
+    hand_written()
 
 
 if __name__ == "__main__":
