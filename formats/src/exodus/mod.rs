@@ -60,13 +60,7 @@ pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
 /// The times of the file's steps (`time_whole`; NaN where a step has none), for listing.
 pub fn times(path: &Path) -> Result<Vec<f64>> {
     let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
-    let f = netcdf::File::parse(&bytes, path)?;
-    let Some(v) = f.var("time_whole") else {
-        return Ok(vec![f64::NAN; f.numrecs as usize]);
-    };
-    (0..f.numrecs)
-        .map(|k| Ok(f.values::<f64>(v, k)?.first().copied().unwrap_or(f64::NAN)))
-        .collect()
+    read::times(&netcdf::File::parse(&bytes, path)?)
 }
 
 /// Reads an Exodus II file from memory at time step `sel`; `path` names it in errors.

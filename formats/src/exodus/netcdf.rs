@@ -128,15 +128,6 @@ impl FromNc for f64 {
     }
 }
 
-impl FromNc for f32 {
-    fn from_be(ty: NcType, b: &[u8]) -> f32 {
-        match ty {
-            NcType::Float => f32::from_be_bytes([b[0], b[1], b[2], b[3]]),
-            _ => be_f64(ty, b) as f32,
-        }
-    }
-}
-
 impl FromNc for i64 {
     fn from_be(ty: NcType, b: &[u8]) -> i64 {
         match ty {

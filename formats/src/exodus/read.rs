@@ -59,13 +59,12 @@ pub(crate) fn read(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
         ));
     }
     if steps > 0 {
-        if let Some(v) = f.var("time_whole") {
-            let mut times = Vec::with_capacity(steps.min(1 << 20) as usize);
-            for k in 0..steps {
-                times.push(f.values::<f64>(v, k)?.first().copied().unwrap_or(f64::NAN));
-            }
-            g.field_data
-                .push(DataArray::new(names::TIME, 1, ArrayData::Float64(times)));
+        if f.var("time_whole").is_some() {
+            g.field_data.push(DataArray::new(
+                names::TIME,
+                1,
+                ArrayData::Float64(times(&f)?),
+            ));
         }
         nodal_vars(&f, step, n_points, &mut g)?;
         element_vars(&f, step, &blocks, &mut g)?;
@@ -73,15 +72,23 @@ pub(crate) fn read(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
     }
     // After the variables: VTK's writer also stores the id arrays as variables of the same
     // name, and the maps win, as in VTK's reader.
-    if let Some(map) = id_map(&f, "elem_num_map", n_cells)? {
-        g.cell_data
-            .insert(DataArray::new(names::ELEMENT_ID, 1, ArrayData::Int64(map)));
-    }
-    if let Some(map) = id_map(&f, "node_num_map", n_points)? {
-        g.point_data
-            .insert(DataArray::new(names::NODE_ID, 1, ArrayData::Int64(map)));
-    }
+    let map = id_map(&f, "elem_num_map", n_cells)?;
+    g.cell_data
+        .insert(DataArray::new(names::ELEMENT_ID, 1, ArrayData::Int64(map)));
+    let map = id_map(&f, "node_num_map", n_points)?;
+    g.point_data
+        .insert(DataArray::new(names::NODE_ID, 1, ArrayData::Int64(map)));
     Ok(g)
+}
+
+/// The time of each step (`time_whole`; NaN for a step without one).
+pub(crate) fn times(f: &File<'_>) -> Result<Vec<f64>> {
+    let Some(v) = f.var("time_whole") else {
+        return Ok(vec![f64::NAN; f.numrecs as usize]);
+    };
+    (0..f.numrecs)
+        .map(|k| Ok(f.values::<f64>(v, k)?.first().copied().unwrap_or(f64::NAN)))
+        .collect()
 }
 
 /// The dimension's length, 0 when the file lacks it.
@@ -244,15 +251,15 @@ fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>
 
 /// A node or element number map; a file without one numbers its objects 1, 2, ... (Exodus's
 /// default map, which VTK's reader gives too).
-fn id_map(f: &File<'_>, name: &str, expect: usize) -> Result<Option<Vec<i64>>> {
+fn id_map(f: &File<'_>, name: &str, expect: usize) -> Result<Vec<i64>> {
     let Some(v) = f.var(name) else {
-        return Ok(Some((1..=expect as i64).collect()));
+        return Ok((1..=expect as i64).collect());
     };
     let map: Vec<i64> = f.values(v, 0)?;
     if map.len() != expect {
         return Err(f.err_var(v, format!("{} entries for {expect} objects", map.len())));
     }
-    Ok(Some(map))
+    Ok(map)
 }
 
 /// The names of the sets counted by dimension `count`: from `names_var` where given and not
@@ -267,7 +274,8 @@ fn set_names(f: &File<'_>, names_var: &str, ids_var: &str, count: &str) -> Resul
         Some(v) => f.values(v, 0)?,
         None => Vec::new(),
     };
-    let n = n.min(given.len().max(ids.len()).max(n.min(1 << 16)));
+    // A name per set, but no more sets than the file has variables for.
+    let n = n.min(given.len().max(ids.len()).max(f.vars.len()));
     Ok((0..n)
         .map(|i| match (given.get(i), ids.get(i)) {
             (Some(s), _) if !s.is_empty() => s.clone(),
@@ -325,7 +333,7 @@ fn var_names(f: &File<'_>, var: &str, count: usize, fallback: &str) -> Result<Ve
         .collect())
 }
 
-/// Whether every variable named is single precision, so arrays keep Float32.
+/// Values as the file stores them: Float32 when it does, else Float64.
 fn typed(float32: bool, values: Vec<f64>) -> ArrayData {
     if float32 {
         ArrayData::Float32(values.into_iter().map(|v| v as f32).collect())
