@@ -312,7 +312,8 @@ fn read_file(path: &Path) -> Result<Vec<u8>> {
 }
 
 /// Reads a mesh, choosing the reader by extension and checking the content agrees. A `.pvd`
-/// gives its first time step; `FILE.pvd@K` (or `@last`) step K (see [`pvd::split_selector`]).
+/// or Exodus file gives its first time step; `FILE.pvd@K` / `FILE.exo@K` (or `@last`) step K
+/// (see [`pvd::split_selector`], [`exodus::split_selector`]).
 pub fn read(path: &Path) -> Result<Grid> {
     if let Some((file, sel)) = pvd::split_selector(path) {
         check_sniff(&file, Format::Pvd, &read_head(&file)?)?;
