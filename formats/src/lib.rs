@@ -1,7 +1,7 @@
 //! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen,
-//! Medit; readers for Gmsh's .msh, for the VTK collections (.vtm, .pvd) that name meshes, for
-//! VTK's structured data (.vti, .vtr, .vts and their legacy forms, as voxels and hexahedra) and
-//! for polydata (.vtp).
+//! Medit; readers for Gmsh's .msh, for Exodus II (classic NetCDF), for the VTK collections (.vtm,
+//! .pvd) that name meshes, for VTK's structured data (.vti, .vtr, .vts and their legacy forms, as
+//! voxels and hexahedra) and for polydata (.vtp).
 //!
 //! Everything is read into a [`Grid`] that keeps each array's name, element type, component count
 //! and component names, and written back from it without conversion. Errors name the file and the
@@ -11,6 +11,7 @@
 pub mod atomic;
 pub mod collection;
 pub mod error;
+pub mod exodus;
 pub mod grid;
 pub mod legacy;
 pub mod medit;
@@ -58,10 +59,12 @@ pub enum Format {
     Medit,
     /// Gmsh mesh, `.msh` (MSH 4.1 and 2.2; read only).
     Msh,
+    /// Exodus II, `.exo`, `.e`, `.ex2`, `.exii`, `.g`, `.gen` in classic NetCDF (read only).
+    Exodus,
 }
 
 /// The extensions [`Format::from_path`] knows, for messages.
-const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .msh, .vtm, .pvd, .vti, .vtr, .vts, .pvti, .pvtr, .pvts or .vtp";
+const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .msh, .exo, .vtm, .pvd, .vti, .vtr, .vts, .pvti, .pvtr, .pvts or .vtp";
 
 impl Format {
     /// The format a path's extension names.
@@ -88,6 +91,7 @@ impl Format {
             )
             .with_file(path)),
             "msh" => Ok(Format::Msh),
+            "exo" | "e" | "ex2" | "exii" | "g" | "gen" => Ok(Format::Exodus),
             "" => Err(
                 FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
             ),
@@ -113,6 +117,7 @@ impl Format {
             "vtp" => Some(Format::Vtp),
             "medit" | "mesh" => Some(Format::Medit),
             "msh" | "gmsh" => Some(Format::Msh),
+            "exodus" | "exo" => Some(Format::Exodus),
             _ => None,
         }
     }
@@ -128,6 +133,7 @@ impl Format {
                 | Format::Vts
                 | Format::Vtp
                 | Format::Msh
+                | Format::Exodus
                 | Format::PStructured
         )
     }
@@ -147,14 +153,13 @@ impl Format {
             Format::PStructured => "parallel structured data (.pvti/.pvtr/.pvts)",
             Format::Medit => "Medit",
             Format::Msh => "Gmsh MSH",
+            Format::Exodus => "Exodus II",
         }
     }
 }
 
 /// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
 /// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
-/// (PVD), `# vtk DataFile` (legacy), or `$MeshFormat` (Gmsh; `$NOD`, MSH 1, too, so that its
-/// reader can refuse it by name). TetGen files have no magic.
 /// The `type` attribute of the `<VTKFile ...>` element in `text`, when the element is there.
 pub(crate) fn vtkfile_type(text: &str) -> Option<&str> {
     let start = text.find("<VTKFile")?;
@@ -198,7 +203,15 @@ fn medit_head(text: &str) -> bool {
     word.eq_ignore_ascii_case("MeshVersionFormatted")
 }
 
+/// Guesses the format from the first bytes: XML with `VTKFile type="UnstructuredGrid"` (VTU),
+/// `type="PUnstructuredGrid"` (PVTU), `type="vtkMultiBlockDataSet"` (VTM), a `<Collection>`
+/// (PVD), `# vtk DataFile` (legacy), `$MeshFormat` (Gmsh; `$NOD`, MSH 1, too, so that its
+/// reader can refuse it by name), or classic NetCDF's `CDF\x01`, `CDF\x02`, `CDF\x05` (Exodus
+/// II). TetGen files have no magic.
 pub fn sniff(bytes: &[u8]) -> Option<Format> {
+    if matches!(bytes.get(..4), Some(b"CDF\x01" | b"CDF\x02" | b"CDF\x05")) {
+        return Some(Format::Exodus);
+    }
     let head = &bytes[..bytes.len().min(4096)];
     let text = String::from_utf8_lossy(head);
     let trimmed = text.trim_start_matches('\u{feff}').trim_start();
@@ -299,11 +312,17 @@ fn read_file(path: &Path) -> Result<Vec<u8>> {
 }
 
 /// Reads a mesh, choosing the reader by extension and checking the content agrees. A `.pvd`
-/// gives its first time step; `FILE.pvd@K` (or `@last`) step K (see [`pvd::split_selector`]).
+/// or Exodus file gives its first time step; `FILE.pvd@K` / `FILE.exo@K` (or `@last`) step K
+/// (see [`pvd::split_selector`], [`exodus::split_selector`]).
 pub fn read(path: &Path) -> Result<Grid> {
     if let Some((file, sel)) = pvd::split_selector(path) {
         check_sniff(&file, Format::Pvd, &read_head(&file)?)?;
         return checked(pvd::read_selected(&file, sel)?, path);
+    }
+    if let Some((file, sel)) = exodus::split_selector(path) {
+        let bytes = read_file(&file)?;
+        check_exodus_sniff(&file, &bytes)?;
+        return checked(exodus::read_from(&bytes, &file, sel)?, path);
     }
     let format = Format::from_path(path)?;
     let grid = match format {
@@ -338,6 +357,11 @@ pub fn read(path: &Path) -> Result<Grid> {
             check_sniff(path, format, &read_head(path)?)?;
             msh::read_path(path)?
         }
+        Format::Exodus => {
+            let bytes = read_file(path)?;
+            check_exodus_sniff(path, &bytes)?;
+            exodus::read_from(&bytes, path, pvd::Selector::Index(0))?
+        }
     };
     checked(grid, path)
 }
@@ -346,6 +370,15 @@ fn checked(grid: Grid, path: &Path) -> Result<Grid> {
     grid.validate()
         .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")).with_file(path))?;
     Ok(grid)
+}
+
+/// An `.exo` whose content is another format's is refused as such; content of no known format
+/// (NetCDF-4's HDF5, say) is left to the Exodus reader, which says what it is.
+fn check_exodus_sniff(path: &Path, bytes: &[u8]) -> Result<()> {
+    match sniff(bytes) {
+        None => Ok(()),
+        Some(_) => check_sniff(path, Format::Exodus, bytes),
+    }
 }
 
 /// The first 4 KiB of a file, enough to sniff its format without reading it all.
@@ -386,6 +419,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
         Format::Legacy => legacy::read(bytes)?,
         Format::Medit => medit::read_bytes(bytes, Path::new("<input>"))?,
         Format::Msh => msh::read_from(bytes, None)?,
+        Format::Exodus => exodus::read_from(bytes, Path::new("<input>"), pvd::Selector::Index(0))?,
         Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd | Format::PStructured => {
             return Err(FormatError::whole(format!(
                 "{} needs files beside it and cannot be read from a stream",
@@ -470,6 +504,21 @@ mod tests {
         assert_eq!(sniff(b"<VTKFile type=\"ImageData\">"), Some(Format::Vti));
         assert_eq!(sniff(b"<VTKFile type=\"Table\">"), None);
         assert_eq!(sniff(b"# vtk DataFile Version 4.2\n"), Some(Format::Legacy));
+    }
+
+    #[test]
+    fn exodus_is_sniffed_by_the_netcdf_magic() {
+        for m in [b"CDF\x01", b"CDF\x02", b"CDF\x05"] {
+            assert_eq!(sniff(m), Some(Format::Exodus));
+        }
+        assert_eq!(sniff(b"CDF\x03"), None);
+        assert_eq!(sniff(b"\x89HDF\r\n"), None);
+        for ext in ["exo", "E", "ex2", "exii", "g", "gen"] {
+            let p = format!("a.{ext}");
+            assert_eq!(Format::from_path(Path::new(&p)).unwrap(), Format::Exodus);
+        }
+        assert_eq!(Format::from_name("exodus"), Some(Format::Exodus));
+        assert!(Format::Exodus.read_only());
     }
 
     #[test]

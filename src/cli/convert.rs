@@ -32,8 +32,8 @@ pub enum LegacyVersionArg {
 
 #[derive(Args, Debug)]
 pub struct ConvertArgs {
-    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .vtm, .pvd, .vti/.vtr/.vts, FILE.pvd@STEP), or - for stdin (VTU, legacy
-    /// VTK, Medit or Gmsh MSH).
+    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts,
+    /// FILE.pvd@STEP, FILE.exo@STEP), or - for stdin (VTU, legacy VTK, Medit, Gmsh MSH or Exodus II).
     pub input: PathBuf,
     /// Output mesh; the extension picks the format. - writes to stdout (see --to).
     #[arg(value_name = "OUTPUT", required_unless_present = "output_flag")]

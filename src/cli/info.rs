@@ -1,14 +1,15 @@
 //! `tetkit info`: what a mesh file holds.
 
 use clap::Args;
-use formats::pvd;
 use formats::{cell_type, Attributes, DataArray, Grid};
+use formats::{exodus, pvd};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .vtm, .pvd, .vti/.vtr/.vts, FILE.pvd@STEP), or - for stdin.
+    /// Mesh file (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts,
+    /// FILE.pvd@STEP, FILE.exo@STEP), or - for stdin.
     pub input: PathBuf,
     /// Print JSON for scripts.
     #[arg(long)]
@@ -106,8 +107,35 @@ fn print_arrays(title: &str, arrays: &[DataArray], attrs: Option<&Attributes>) {
     }
 }
 
-/// The time steps of a .pvd input (`FILE.pvd` or `FILE.pvd@K`) and the one read, else `None`.
+/// The time steps of a .pvd or Exodus input (`FILE.pvd`, `FILE.pvd@K`, `FILE.exo`, `FILE.exo@K`)
+/// and the one read, else `None` (also for an Exodus file without steps). Exodus steps name no
+/// files.
 fn time_steps(input: &Path) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
+    let exodus = match exodus::split_selector(input) {
+        Some(fs) => Some(fs),
+        None if formats::Format::from_path(input).ok() == Some(formats::Format::Exodus) => {
+            Some((input.to_path_buf(), pvd::Selector::Index(0)))
+        }
+        None => None,
+    };
+    if let Some((file, sel)) = exodus {
+        let times = exodus::times(&file)?;
+        if times.is_empty() {
+            return Ok(None);
+        }
+        let k = match sel {
+            pvd::Selector::Index(k) => k,
+            pvd::Selector::Last => times.len() - 1,
+        };
+        let steps = times
+            .into_iter()
+            .map(|t| pvd::Step {
+                time: Some(t),
+                entries: Vec::new(),
+            })
+            .collect();
+        return Ok(Some((steps, k)));
+    }
     let (file, sel) = match pvd::split_selector(input) {
         Some((f, s)) => (f, s),
         None if formats::Format::from_path(input).ok() == Some(formats::Format::Pvd) => {
@@ -135,7 +163,9 @@ fn steps_json(steps: &[pvd::Step], read: usize) -> Value {
 }
 
 fn print_steps(input: &Path, steps: &[pvd::Step], read: usize) {
-    let base = pvd::split_selector(input).map_or_else(|| input.to_path_buf(), |(f, _)| f);
+    let base = pvd::split_selector(input)
+        .or_else(|| exodus::split_selector(input))
+        .map_or_else(|| input.to_path_buf(), |(f, _)| f);
     println!(
         "time steps: {} (read one with {}@K; this is step {read})",
         steps.len(),

@@ -91,8 +91,8 @@ fn default_sigpipe() {
     }
 }
 
-/// Reads a mesh from a path, or from stdin for `-` (VTU, legacy VTK, Medit or Gmsh MSH, sniffed from the
-/// content).
+/// Reads a mesh from a path, or from stdin for `-` (VTU, legacy VTK, Medit, Gmsh MSH or Exodus
+/// II, sniffed from the content).
 pub fn read_input(path: &std::path::Path) -> anyhow::Result<formats::Grid> {
     use anyhow::Context;
     if path.as_os_str() == "-" {
@@ -100,7 +100,9 @@ pub fn read_input(path: &std::path::Path) -> anyhow::Result<formats::Grid> {
         std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes)
             .context("reading stdin")?;
         let format = formats::sniff(&bytes).ok_or_else(|| {
-            anyhow::anyhow!("<stdin>: byte 0: not a VTU, legacy VTK, Medit or Gmsh MSH stream")
+            anyhow::anyhow!(
+                "<stdin>: byte 0: not a VTU, legacy VTK, Medit, Gmsh MSH or Exodus II stream"
+            )
         })?;
         return formats::read_bytes(&bytes, format).map_err(|mut e| {
             e.file = Some("<stdin>".into());

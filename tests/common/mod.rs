@@ -169,7 +169,8 @@ pub fn dir_listing(dir: &Path) -> Vec<String> {
 }
 
 /// Every mesh under fixtures/ that a reader must accept: `.vtu`, `.pvtu`, `.vtk`, structured
-/// `.vti`/`.vtr`/`.vts`, TetGen `.ele`, Medit `.mesh` and Gmsh `.msh` files, recursively, sorted.
+/// `.vti`/`.vtr`/`.vts`, TetGen `.ele`, Medit `.mesh`, Gmsh `.msh` and Exodus `.exo` files,
+/// recursively, sorted.
 /// Folders named `hostile` or `bad` (inputs that must be refused), `surfaces` (polydata bodies for
 /// scenes, not meshes) and `gmsh_vtk` (Gmsh's own VTK export of the .msh fixtures, kept for
 /// comparison: it writes 2nd-order pyramids as linear ones with 13 or 14 points, which no reader
@@ -189,7 +190,7 @@ pub fn fixture_meshes() -> Vec<PathBuf> {
             } else if let Some(ext) = p.extension().and_then(|x| x.to_str()) {
                 if matches!(
                     ext.to_ascii_lowercase().as_str(),
-                    "vtu" | "pvtu" | "vtk" | "ele" | "mesh" | "msh" | "vti" | "vtr" | "vts"
+                    "vtu" | "pvtu" | "vtk" | "ele" | "mesh" | "msh" | "exo" | "vti" | "vtr" | "vts"
                 ) {
                     out.push(p);
                 }

@@ -1,0 +1,79 @@
+//! Exodus II meshes (classic NetCDF: CDF-1, CDF-2, CDF-5) read into a [`Grid`]; read only.
+
+mod netcdf;
+mod read;
+mod types;
+
+#[cfg(test)]
+mod tests;
+
+use crate::pvd::Selector;
+use crate::{FormatError, Grid, Result};
+use std::path::{Path, PathBuf};
+
+/// Array names the reader gives.
+pub mod names {
+    /// Cell array: the element block id (`eb_prop1`), as VTK's Exodus reader names it.
+    pub const OBJECT_ID: &str = "ObjectId";
+    /// Cell array from `elem_num_map` (1, 2, ... without one).
+    pub const ELEMENT_ID: &str = "GlobalElementId";
+    /// Point array from `node_num_map` (1, 2, ... without one).
+    pub const NODE_ID: &str = "GlobalNodeId";
+    /// Field data: the block names (`eb_names`) in block order.
+    pub const BLOCK_NAMES: &str = "exodus:block_names";
+    /// Field data: the times of all steps (`time_whole`).
+    pub const TIME: &str = "exodus:time";
+    /// Point arrays `nodeset:NAME`: 1 for the nodes of the node set.
+    pub const NODE_SET_PREFIX: &str = "nodeset:";
+}
+
+/// The extensions Exodus files go by.
+pub const EXTENSIONS: [&str; 6] = ["exo", "e", "ex2", "exii", "g", "gen"];
+
+pub(crate) fn warn(msg: &str) {
+    eprintln!("tetkit: warning: {msg}");
+}
+
+/// Whether `path` has one of the Exodus [`EXTENSIONS`] (any case).
+pub fn has_extension(path: &Path) -> bool {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .is_some_and(|e| EXTENSIONS.contains(&e.as_str()))
+}
+
+/// Splits `FILE.exo@K` / `FILE.exo@last` into the file and the time step; `None` for any other
+/// path.
+pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
+    let s = path.to_str()?;
+    let (file, sel) = s.rsplit_once('@')?;
+    let file = PathBuf::from(file);
+    if !has_extension(&file) {
+        return None;
+    }
+    let sel = match sel {
+        "last" => Selector::Last,
+        k => Selector::Index(k.parse().ok()?),
+    };
+    Some((file, sel))
+}
+
+/// The times of the file's steps (`time_whole`; NaN where a step has none), for listing.
+pub fn times(path: &Path) -> Result<Vec<f64>> {
+    let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
+    read::times(&netcdf::File::parse(&bytes, path)?)
+}
+
+/// Reads an Exodus II file from memory at time step `sel`; `path` names it in errors.
+///
+/// Points are the nodes (`coordx`/`coordy`/`coordz`, or the older `coord`; z = 0 in 2-D) in
+/// their stored precision. Cells are the element blocks' elements, block by block as VTK's
+/// reader numbers them, with Exodus's node order mapped to VTK's (HEX20, HEX27 and WEDGE15
+/// differ). Cell arrays: `ObjectId` (Int32 block id), `GlobalElementId` (Int64, from
+/// `elem_num_map`, or 1, 2, ... as Exodus numbers elements without one) and the element variables of step `sel` (NaN in blocks the truth table leaves
+/// out); point arrays: `GlobalNodeId` (Int64, from `node_num_map` or 1, 2, ...), the nodal variables of the
+/// step and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times),
+/// `exodus:block_names`, and each global variable over all steps. Side sets are skipped with a
+/// warning; QA and info records are skipped. NetCDF-4 (HDF5) files are refused.
+pub fn read_from(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
+    read::read(bytes, path, sel)
+}
