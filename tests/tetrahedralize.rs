@@ -313,12 +313,12 @@ fn tets_only_drops_boundary_cells() {
 /// Every fixture can be tetrahedralized into positive tets with its data carried (no VTK
 /// needed). Not every fixture is a conforming mesh (some hold cells side by side for the
 /// readers' sake), so conformity is checked on the meshes above. The Gmsh fixtures of order 2
-/// hold quadratic hexahedra, wedges and pyramids, which tetrahedralization does not split: those
-/// must be refused with an error that says so.
+/// hold quadratic wedges and pyramids, which tetrahedralization does not split: those must be
+/// refused with an error that says so (20-node hexahedra are split; see
+/// `hex20_meshes_split_conforming_with_their_volume`).
 #[test]
 fn every_fixture_tetrahedralizes() {
     let unsplit = [
-        ct::QUADRATIC_HEXAHEDRON,
         ct::QUADRATIC_WEDGE,
         ct::QUADRATIC_PYRAMID,
         ct::BIQUADRATIC_QUADRATIC_WEDGE,
@@ -339,4 +339,104 @@ fn every_fixture_tetrahedralizes() {
         check_tets(&g, &t, false);
         check_data_carried(&g, &t);
     }
+}
+
+/// 20-node hexahedra (Gmsh's incomplete second order, Exodus HEX20) are completed to 27 nodes and
+/// split: positive tets, conforming across shared faces, the volume of the linear sub-hexahedra,
+/// data carried. Every fixture holding them is checked.
+#[test]
+fn hex20_meshes_split_conforming_with_their_volume() {
+    let mut seen = 0;
+    for f in fixture_meshes() {
+        let g = formats::read(&f).unwrap_or_else(|e| panic!("{e}"));
+        let types: std::collections::BTreeSet<u8> = g.cells.types.iter().copied().collect();
+        if !types.contains(&ct::QUADRATIC_HEXAHEDRON) {
+            continue;
+        }
+        // Only 20-node hexahedra and lower cells: the others are refused (above).
+        if types
+            .iter()
+            .any(|&t| ct::dimension(t) == 3 && t != ct::QUADRATIC_HEXAHEDRON)
+        {
+            continue;
+        }
+        seen += 1;
+        let (t, report) =
+            tetrahedralize(&g, true).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        assert!(
+            report
+                .split
+                .iter()
+                .any(|&(ty, n)| ty == ct::QUADRATIC_HEXAHEDRON && n > 0),
+            "{}: {report:?}",
+            f.display()
+        );
+        check_tets(&g, &t, false);
+        check_data_carried(&g, &t);
+    }
+    // A generated one, in case no fixture holds only 20-node hexahedra: a 2 x 1 x 1 block of
+    // two straight cells sharing a face.
+    let mut g = Grid::default();
+    let lattice = cells::TQHEX_LATTICE;
+    let mut pts: Vec<[f64; 3]> = Vec::new();
+    let mut cells = Vec::new();
+    for shift in [0.0, 1.0] {
+        let mut ids = Vec::new();
+        for l in lattice.iter().take(20) {
+            let q = [
+                0.5 * l[0] as f64 + shift,
+                0.5 * l[1] as f64,
+                0.5 * l[2] as f64,
+            ];
+            let i = pts.iter().position(|x| *x == q).unwrap_or_else(|| {
+                pts.push(q);
+                pts.len() - 1
+            });
+            ids.push(i as i64);
+        }
+        cells.push(ids);
+    }
+    g.points = formats::DataArray::new(
+        "Points",
+        3,
+        formats::ArrayData::Float64(pts.iter().flatten().copied().collect()),
+    );
+    for c in &cells {
+        g.cells.push(ct::QUADRATIC_HEXAHEDRON, c);
+    }
+    let (t, _) = tetrahedralize(&g, true).unwrap();
+    let volume = check_tets(&g, &t, false);
+    assert!((volume - 2.0).abs() < 1e-12, "volume {volume}");
+    // Conforming across the shared face: the triangles that bound one tet only are the block's
+    // surface (area 2 * (2 + 2 + 1)); a crack inside would add to it.
+    let p = t.points_f64();
+    let mut count: HashMap<[i64; 3], usize> = HashMap::new();
+    for c in 0..t.num_cells() {
+        let v = t.cells.cell(c);
+        for skip in 0..4 {
+            let mut f: Vec<i64> = (0..4).filter(|&k| k != skip).map(|k| v[k]).collect();
+            f.sort_unstable();
+            *count.entry([f[0], f[1], f[2]]).or_default() += 1;
+        }
+    }
+    assert!(count.values().all(|&n| n <= 2));
+    let area: f64 = count
+        .iter()
+        .filter(|(_, &n)| n == 1)
+        .map(|(f, _)| {
+            let [a, b, c] = f.map(|i| p[i as usize]);
+            let (u, w) = (
+                [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+                [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+            );
+            let x = [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ];
+            0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt()
+        })
+        .sum();
+    assert!((area - 10.0).abs() < 1e-12, "surface area {area}");
+    eprintln!("{seen} fixtures hold only 20-node hexahedra as 3-D cells");
 }

@@ -2,10 +2,12 @@
 //!
 //! Supported 3-D cells: tetra (kept; flipped if inverted), voxel, hexahedron, wedge, pyramid,
 //! pentagonal and hexagonal prism, polyhedron (any closed polyhedron star-shaped from its smallest
-//! vertex or from its centre), quadratic tetra (10 nodes -> 8 tets) and triquadratic hexahedron
-//! (27 nodes -> 8 hexahedra -> tets). Other quadratic 3-D cells (20-node hexahedron, 15-node
-//! wedge, 13-node pyramid, ...) lack the nodes a linear split needs and are refused with an error
-//! naming the cell. See [`cells`] for the split rule and why it is conforming.
+//! vertex or from its centre), quadratic tetra (10 nodes -> 8 tets), triquadratic hexahedron
+//! (27 nodes -> 8 hexahedra -> tets) and 20-node quadratic hexahedron (completed to 27 nodes
+//! first: its 6 face centres and body centre are new points placed by its own shape functions,
+//! their float point data by the same weights, integer and string data from the smallest-id
+//! corner; see [`quadratic`]). Other quadratic 3-D cells (15-node wedge, 13-node pyramid, ...)
+//! lack the nodes a linear split needs and are refused with an error naming the cell. See [`cells`] for the split rule and why it is conforming.
 //!
 //! Data: every point is kept, in order, with its point data; cell data is copied to each child and
 //! an Int64 `original_cell_id` cell array gives each output cell's input cell (when the input
@@ -17,6 +19,7 @@
 //! dropped and counted.
 
 pub mod cells;
+mod quadratic;
 
 use anyhow::{bail, Result};
 use formats::grid::Element;
@@ -184,6 +187,21 @@ fn polyhedron_faces(
     Ok(out)
 }
 
+/// The 3-D cell types [`tetrahedralize`] splits.
+const SPLITTABLE: [u8; 11] = [
+    ct::TETRA,
+    ct::VOXEL,
+    ct::HEXAHEDRON,
+    ct::WEDGE,
+    ct::PYRAMID,
+    ct::PENTAGONAL_PRISM,
+    ct::HEXAGONAL_PRISM,
+    ct::POLYHEDRON,
+    ct::QUADRATIC_TETRA,
+    ct::QUADRATIC_HEXAHEDRON,
+    ct::TRIQUADRATIC_HEXAHEDRON,
+];
+
 /// Splits every 3-D cell into linear tets. `keep_lower`: keep 0-, 1- and 2-D cells as they are
 /// (convert) instead of dropping them (stages that need only tets). Errors name the first cell
 /// that cannot be split.
@@ -191,6 +209,26 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
     if let Err(m) = grid.validate() {
         bail!("invalid mesh: {m}");
     }
+    // Refuse a cell type that cannot be split before anything is made, naming the first such
+    // cell (a file mixing them with splittable cells gets the same message wherever they are).
+    if let Some(i) = grid
+        .cells
+        .types
+        .iter()
+        .position(|&t| ct::dimension(t) == 3 && !SPLITTABLE.contains(&t))
+    {
+        let t = grid.cells.types[i];
+        bail!(
+            "cell {i} ({}, type {t}): this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron)",
+            ct::name(t)
+        );
+    }
+    let input_types = &grid.cells.types;
+    let completed = quadratic::complete_hex20(grid);
+    let (grid, hex20) = match &completed {
+        Some((g, n)) => (g, *n),
+        None => (grid, 0),
+    };
     let pts = grid.points_f64();
     let pos = |i: i64| pts[i as usize];
     let float32 = matches!(grid.points.data, ArrayData::Float32(_));
@@ -218,7 +256,9 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
         for i in range {
             let t = grid.cells.types[i];
             let ids = grid.cells.cell(i);
-            let fail = |what: &str| format!("cell {i} ({}, type {t}): {what}", ct::name(t));
+            // Named as the input has it (a 20-node hexahedron is split as a 27-node one).
+            let t0 = input_types[i];
+            let fail = |what: &str| format!("cell {i} ({}, type {t0}): {what}", ct::name(t0));
             let invalid = || {
                 fail("cannot be split into positively oriented tets (flat, or so warped or concave that no point inside it sees all its faces)")
             };
@@ -289,7 +329,7 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                 }
                 _ => {
                     return Err(fail(
-                        "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, triquadratic hexahedron)",
+                        "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron)",
                     ))
                 }
             }
@@ -349,6 +389,10 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
             .map(|t| (t as u8, v[t]))
             .collect()
     };
+    // 20-node hexahedra were split as the 27-node ones they were completed to; count them as
+    // what the input held.
+    split[ct::TRIQUADRATIC_HEXAHEDRON as usize] -= hex20;
+    split[ct::QUADRATIC_HEXAHEDRON as usize] += hex20;
     report.split = by_type(&split);
     report.dropped_by_type = by_type(&dropped);
     report.dropped = dropped.iter().sum();

@@ -372,11 +372,11 @@ fn flat_hex_and_unsupported_cells_are_errors() {
     let g = grid_of(pts.clone(), &[(ct::HEXAHEDRON, &ids)]);
     let e = tetrahedralize(&g, false).unwrap_err().to_string();
     assert!(e.contains("cell 0 (hexahedron"), "{e}");
-    let ids: Vec<i64> = (0..20).collect();
-    let g = grid_of(pts, &[(ct::QUADRATIC_HEXAHEDRON, &ids)]);
+    let ids: Vec<i64> = (0..15).collect();
+    let g = grid_of(pts, &[(ct::QUADRATIC_WEDGE, &ids)]);
     let e = tetrahedralize(&g, false).unwrap_err().to_string();
     assert!(
-        e.contains("quadratic_hexahedron") && e.contains("not supported"),
+        e.contains("quadratic_wedge") && e.contains("not supported"),
         "{e}"
     );
 }

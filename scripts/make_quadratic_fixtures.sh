@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Writes fixtures/quadratic/ with Gmsh (Debian package `gmsh`, 4.8): meshes of second-order cells
+# for tetrahedralization (tests/tetrahedralize.rs).
+#   hex20_ring.msh  a quarter of a thick ring (r 1..2, 90 degrees, height 1) swept from a
+#                   transfinite quad face: 8 x 2 x 2 hexahedra at order 2 incomplete (20 nodes,
+#                   mid-edge nodes on the arcs, so the cells are curved), with the boundary's
+#                   8-node quads, 3-node lines and corner points; MSH 4.1 ASCII
+set -euo pipefail
+out="$(cd "$(dirname "$0")/.." && pwd)/fixtures/quadratic"
+mkdir -p "$out"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cat >"$work/ring.geo" <<'GEO'
+Point(1) = {0, 0, 0};
+Point(2) = {1, 0, 0};
+Point(3) = {2, 0, 0};
+Point(4) = {0, 2, 0};
+Point(5) = {0, 1, 0};
+Line(1) = {2, 3};
+Circle(2) = {3, 1, 4};
+Line(3) = {4, 5};
+Circle(4) = {5, 1, 2};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Transfinite Curve{1, 3} = 3;
+Transfinite Curve{2, 4} = 9;
+Transfinite Surface{1};
+Recombine Surface{1};
+Extrude {0, 0, 1} { Surface{1}; Layers{2}; Recombine; }
+GEO
+gmsh -3 "$work/ring.geo" -format msh41 -order 2 -setnumber Mesh.SecondOrderIncomplete 1 \
+  -o "$out/hex20_ring.msh" >"$work/log" 2>&1 || { cat "$work/log"; exit 1; }
+ls -l "$out"
