@@ -29,6 +29,11 @@ pub use grid::{
 use std::io::Write;
 use std::path::Path;
 
+/// Prints a warning on stderr, as every reader words it: something was read but not kept whole.
+pub(crate) fn warn(msg: &str) {
+    eprintln!("tetkit: warning: {msg}");
+}
+
 /// A file format, chosen from the file name and checked against the content.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -91,7 +96,7 @@ impl Format {
             )
             .with_file(path)),
             "msh" => Ok(Format::Msh),
-            "exo" | "e" | "ex2" | "exii" | "g" | "gen" => Ok(Format::Exodus),
+            e if exodus::EXTENSIONS.contains(&e) => Ok(Format::Exodus),
             "" => Err(
                 FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
             ),
@@ -382,7 +387,7 @@ fn check_exodus_sniff(path: &Path, bytes: &[u8]) -> Result<()> {
 }
 
 /// The first 4 KiB of a file, enough to sniff its format without reading it all.
-fn read_head(path: &Path) -> Result<Vec<u8>> {
+pub(crate) fn read_head(path: &Path) -> Result<Vec<u8>> {
     use std::io::Read;
     let mut head = Vec::with_capacity(4096);
     std::fs::File::open(path)

@@ -100,8 +100,9 @@ fn zeroed<T: Clone + Default>(n: usize, what: &str) -> Result<Vec<T>, String> {
     Ok(v)
 }
 
-/// Corner offsets (in lattice steps along the active axes) of one cell, in VTK's point order.
-fn corners(active: usize, lattice: Lattice) -> &'static [[usize; 3]] {
+/// The cell type of a lattice with `active` axes of more than one point, and its corner offsets
+/// (in lattice steps along those axes) in VTK's point order.
+fn cell_kind(active: usize, lattice: Lattice) -> (u8, &'static [[usize; 3]]) {
     const VERTEX: [[usize; 3]; 1] = [[0, 0, 0]];
     const LINE: [[usize; 3]; 2] = [[0, 0, 0], [1, 0, 0]];
     const PIXEL: [[usize; 3]; 4] = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]];
@@ -127,23 +128,12 @@ fn corners(active: usize, lattice: Lattice) -> &'static [[usize; 3]] {
         [0, 1, 1],
     ];
     match (active, lattice) {
-        (0, _) => &VERTEX,
-        (1, _) => &LINE,
-        (2, Lattice::Axis) => &PIXEL,
-        (2, Lattice::Curvilinear) => &QUAD,
-        (_, Lattice::Axis) => &VOXEL,
-        (_, Lattice::Curvilinear) => &HEX,
-    }
-}
-
-fn cell_type_of(active: usize, lattice: Lattice) -> u8 {
-    match (active, lattice) {
-        (0, _) => cell_type::VERTEX,
-        (1, _) => cell_type::LINE,
-        (2, Lattice::Axis) => cell_type::PIXEL,
-        (2, Lattice::Curvilinear) => cell_type::QUAD,
-        (_, Lattice::Axis) => cell_type::VOXEL,
-        (_, Lattice::Curvilinear) => cell_type::HEXAHEDRON,
+        (0, _) => (cell_type::VERTEX, &VERTEX),
+        (1, _) => (cell_type::LINE, &LINE),
+        (2, Lattice::Axis) => (cell_type::PIXEL, &PIXEL),
+        (2, Lattice::Curvilinear) => (cell_type::QUAD, &QUAD),
+        (_, Lattice::Axis) => (cell_type::VOXEL, &VOXEL),
+        (_, Lattice::Curvilinear) => (cell_type::HEXAHEDRON, &HEX),
     }
 }
 
@@ -157,8 +147,7 @@ pub(crate) fn cells(dims: Option<[usize; 3]>, lattice: Lattice) -> Result<Cells,
     let stride = [1, d[0], d[0] * d[1]];
     // The axes with more than one point, in order; a cell steps along these only.
     let axes: Vec<usize> = (0..3).filter(|&a| d[a] > 1).collect();
-    let corner = corners(axes.len(), lattice);
-    let ty = cell_type_of(axes.len(), lattice);
+    let (ty, corner) = cell_kind(axes.len(), lattice);
     // Point-id step of each corner, and the cells per active axis.
     let steps: Vec<i64> = corner
         .iter()

@@ -11,8 +11,12 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let mut out = Vec::new();
-    formats::write_to(&mut out, Format::Medit, &grid, &WriteOptions::default())
-        .expect("what the reader gives, the writer writes");
-    let back = formats::read_bytes(&out, Format::Medit).expect("own output reads");
-    assert_eq!(back, grid);
+    // Failing here is the finding the fuzzer reports, so both are asserted, not handled.
+    if let Err(e) = formats::write_to(&mut out, Format::Medit, &grid, &WriteOptions::default()) {
+        panic!("what the reader gives, the writer writes: {e}");
+    }
+    match formats::read_bytes(&out, Format::Medit) {
+        Ok(back) => assert_eq!(back, grid),
+        Err(e) => panic!("own output reads: {e}"),
+    }
 });

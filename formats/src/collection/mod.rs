@@ -18,10 +18,7 @@ use std::path::{Path, PathBuf};
 /// writer makes, and short of a stack overflow on a hostile chain.
 const MAX_DEPTH: usize = 16;
 
-/// A warning on stderr: what VTK drops silently (arrays not every block has) tetkit names.
-pub(crate) fn warn(msg: &str) {
-    eprintln!("tetkit: warning: {msg}");
-}
+pub(crate) use crate::warn;
 
 /// The collections being read, outermost first, to refuse a file that names itself or an
 /// enclosing one.
@@ -82,11 +79,7 @@ fn kind(path: &Path) -> Option<Kind> {
 
 /// The `DATASET` kind a legacy file's header names (`UNSTRUCTURED_GRID`, `POLYDATA`...).
 fn legacy_dataset(path: &Path) -> Result<Option<String>> {
-    use std::io::Read;
-    let mut head = Vec::with_capacity(4096);
-    std::fs::File::open(path)
-        .and_then(|f| f.take(4096).read_to_end(&mut head))
-        .map_err(|e| FormatError::io(path, e))?;
+    let head = crate::read_head(path)?;
     let text = String::from_utf8_lossy(&head);
     Ok(text.lines().take(8).find_map(|l| {
         let mut w = l.split_whitespace();

@@ -33,16 +33,29 @@ pub enum Selector {
 
 /// Splits `FILE.pvd@K` / `FILE.pvd@last` into the file and the step; `None` for any other path.
 pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
+    split_step(path, |file| {
+        file.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("pvd"))
+    })
+}
+
+/// Splits `FILE@K` / `FILE@last` into the file and the step when `takes(FILE)` (a format with time
+/// steps); `None` otherwise, so a path that merely holds an `@` is left as it is.
+pub(crate) fn split_step(
+    path: &Path,
+    takes: impl Fn(&Path) -> bool,
+) -> Option<(PathBuf, Selector)> {
     let s = path.to_str()?;
     let (file, sel) = s.rsplit_once('@')?;
-    if !file.to_ascii_lowercase().ends_with(".pvd") {
+    let file = PathBuf::from(file);
+    if !takes(&file) {
         return None;
     }
     let sel = match sel {
         "last" => Selector::Last,
         k => Selector::Index(k.parse().ok()?),
     };
-    Some((PathBuf::from(file), sel))
+    Some((file, sel))
 }
 
 /// The time steps of a .pvd, by increasing time (entries with the same time are one step).

@@ -30,9 +30,7 @@ pub mod names {
 /// The extensions Exodus files go by.
 pub const EXTENSIONS: [&str; 6] = ["exo", "e", "ex2", "exii", "g", "gen"];
 
-pub(crate) fn warn(msg: &str) {
-    eprintln!("tetkit: warning: {msg}");
-}
+pub(crate) use crate::warn;
 
 /// Whether `path` has one of the Exodus [`EXTENSIONS`] (any case).
 pub fn has_extension(path: &Path) -> bool {
@@ -44,17 +42,7 @@ pub fn has_extension(path: &Path) -> bool {
 /// Splits `FILE.exo@K` / `FILE.exo@last` into the file and the time step; `None` for any other
 /// path.
 pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
-    let s = path.to_str()?;
-    let (file, sel) = s.rsplit_once('@')?;
-    let file = PathBuf::from(file);
-    if !has_extension(&file) {
-        return None;
-    }
-    let sel = match sel {
-        "last" => Selector::Last,
-        k => Selector::Index(k.parse().ok()?),
-    };
-    Some((file, sel))
+    crate::pvd::split_step(path, has_extension)
 }
 
 /// The times of the file's steps (`time_whole`; NaN where a step has none), for listing.

@@ -346,10 +346,10 @@ fn skip(t: &mut Tokens<'_>, s: &State, name: &str, rec: Record, line: usize) -> 
             }
         }
     }
-    eprintln!(
-        "tetkit: warning: {}: line {line}: {name} ({n} entries) skipped: tetkit does not keep Medit normals or tangents",
+    crate::warn(&format!(
+        "{}: line {line}: {name} ({n} entries) skipped: tetkit does not keep Medit normals or tangents",
         t.path().display()
-    );
+    ));
     Ok(())
 }
 

@@ -240,11 +240,11 @@ pub fn write(w: &mut dyn Write, grid: &Grid, label: &Path) -> Result<()> {
         );
     }
     if !lost.is_empty() {
-        eprintln!(
-            "tetkit: warning: {}: Medit files cannot hold {}: dropped",
+        crate::warn(&format!(
+            "{}: Medit files cannot hold {}: dropped",
             label.display(),
             lost.join(", ")
-        );
+        ));
     }
     Ok(())
 }

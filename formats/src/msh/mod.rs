@@ -26,9 +26,7 @@ pub mod names {
     pub const TIME_PREFIX: &str = "gmsh:time:";
 }
 
-pub(crate) fn warn(msg: &str) {
-    eprintln!("tetkit: warning: {msg}");
-}
+pub(crate) use crate::warn;
 
 /// Reads a `.msh` file (see [`read_from`] for what the grid holds).
 pub fn read_path(path: &Path) -> Result<Grid> {

@@ -41,15 +41,6 @@ fn structured_kind(root: &str) -> Option<(&'static str, Lattice)> {
     })
 }
 
-fn parse_extent(v: &str, pos: u64) -> Result<[i64; 6]> {
-    let bad = || FormatError::at_byte(pos, format!("Extent=\"{v}\" is not six integers"));
-    let nums = v
-        .split_whitespace()
-        .map(|t| t.parse::<i64>().map_err(|_| bad()))
-        .collect::<Result<Vec<_>>>()?;
-    <[i64; 6]>::try_from(nums).map_err(|_| bad())
-}
-
 /// Where a `<PDataArray>` belongs.
 #[derive(Clone, Copy, PartialEq)]
 enum Section {
@@ -122,7 +113,7 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
                             let e = get(b"Extent")?.ok_or_else(|| {
                                 FormatError::at_byte(pos, "a structured <Piece> without an Extent")
                             })?;
-                            index.extents.push(parse_extent(&e, pos)?);
+                            index.extents.push(super::xml::parse_extent(&e, "Extent", pos)?);
                         }
                         index.sources.push(src);
                     }
@@ -250,14 +241,7 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
         let want = index
             .structured
             .map_or("UnstructuredGrid", |(serial, _)| serial);
-        let head = {
-            use std::io::Read;
-            let mut head = Vec::with_capacity(4096);
-            std::fs::File::open(&p)
-                .and_then(|f| f.take(4096).read_to_end(&mut head))
-                .map_err(|e| FormatError::io(&p, e))?;
-            head
-        };
+        let head = crate::read_head(&p)?;
         let found = crate::vtkfile_type(&String::from_utf8_lossy(&head)).map(str::to_string);
         if found.as_deref() != Some(want) {
             return Err(FormatError::new(

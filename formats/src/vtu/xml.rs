@@ -283,15 +283,17 @@ fn array_from(a: &[(String, String)], pos: u64) -> Result<ArrayXml> {
 
 /// Six integers, as `Extent` and `WholeExtent` hold; `None` when the attribute is absent.
 fn extent_from(a: &[(String, String)], key: &str, pos: u64) -> Result<Option<[i64; 6]>> {
-    let Some(v) = get(a, key) else {
-        return Ok(None);
-    };
+    get(a, key).map(|v| parse_extent(v, key, pos)).transpose()
+}
+
+/// The six integers of an extent attribute's value `v` (attribute `key`, for the error).
+pub(crate) fn parse_extent(v: &str, key: &str, pos: u64) -> Result<[i64; 6]> {
     let bad = || FormatError::at_byte(pos, format!("{key}=\"{v}\" is not six integers"));
     let nums = v
         .split_whitespace()
         .map(|t| t.parse::<i64>().map_err(|_| bad()))
         .collect::<Result<Vec<_>>>()?;
-    <[i64; 6]>::try_from(nums).map(Some).map_err(|_| bad())
+    <[i64; 6]>::try_from(nums).map_err(|_| bad())
 }
 
 /// `n` finite numbers from an attribute, or `default` when it is absent.

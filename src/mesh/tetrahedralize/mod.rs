@@ -187,6 +187,8 @@ fn polyhedron_faces(
     Ok(out)
 }
 
+const UNSUPPORTED: &str = "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron)";
+
 /// The 3-D cell types [`tetrahedralize`] splits.
 const SPLITTABLE: [u8; 11] = [
     ct::TETRA,
@@ -218,10 +220,7 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
         .position(|&t| ct::dimension(t) == 3 && !SPLITTABLE.contains(&t))
     {
         let t = grid.cells.types[i];
-        bail!(
-            "cell {i} ({}, type {t}): this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron)",
-            ct::name(t)
-        );
+        bail!("cell {i} ({}, type {t}): {UNSUPPORTED}", ct::name(t));
     }
     let input_types = &grid.cells.types;
     let completed = quadratic::complete_hex20(grid);
@@ -287,7 +286,11 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                     out.kept_tets += 1;
                     continue;
                 }
-                ct::VOXEL | ct::HEXAHEDRON | ct::WEDGE | ct::PYRAMID | ct::PENTAGONAL_PRISM
+                ct::VOXEL
+                | ct::HEXAHEDRON
+                | ct::WEDGE
+                | ct::PYRAMID
+                | ct::PENTAGONAL_PRISM
                 | ct::HEXAGONAL_PRISM => {
                     let voxel;
                     let (ids, faces): (&[i64], &[&[usize]]) = match t {
@@ -317,7 +320,8 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                     }
                 }
                 ct::POLYHEDRON => {
-                    let mut faces = polyhedron_faces(grid, starts.as_deref(), i).map_err(|m| fail(&m))?;
+                    let mut faces =
+                        polyhedron_faces(grid, starts.as_deref(), i).map_err(|m| fail(&m))?;
                     cells::orient_polyhedron_faces(&mut faces).map_err(|m| fail(&m))?;
                     let s = cells::split_polytope(&faces, &pos, &round).map_err(|_| invalid())?;
                     out.push_split(s, i, || {
@@ -327,11 +331,7 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                         v
                     });
                 }
-                _ => {
-                    return Err(fail(
-                        "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron)",
-                    ))
-                }
+                _ => return Err(fail(UNSUPPORTED)),
             }
             out.split[t as usize] += 1;
         }
