@@ -135,6 +135,83 @@ pub fn tqhex_sub_hexes() -> [[usize; 8]; 8] {
     out
 }
 
+/// Faces of a tet, oriented like [`HEX_FACES`] (for a tet among a cell's linear pieces).
+pub const TET_FACES: [&[usize]; 4] = [&[0, 2, 1], &[0, 1, 3], &[1, 2, 3], &[2, 0, 3]];
+
+/// A linear piece of a quadratic cell: its nodes (local indices) and the face table they fit.
+pub type SubCell = (Vec<usize>, &'static [&'static [usize]]);
+
+/// Triangle `(c0, c1, c2)` with mid-edge nodes `(m01, m12, m20)`, numbered 0..6 in that order,
+/// cut into 4 by its mid-edge nodes, each turning the way the triangle does.
+const TRIANGLE_IN_4: [[usize; 3]; 4] = [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+
+/// The layers of the quadratic wedges, as triangles `(c0 c1 c2 m01 m12 m20)` from bottom to top
+/// (VTK: corners 0-5, edges 6:01 7:12 8:20 9:34 10:45 11:53 12:03 13:14 14:25, quad-face
+/// centres 15:0143 16:1254 17:2035): the 18-node wedge has a middle layer of its vertical edges'
+/// mid nodes and its face centres; the 12-node one has none.
+const WEDGE18_LAYERS: [[usize; 6]; 3] = [
+    [0, 1, 2, 6, 7, 8],
+    [12, 13, 14, 15, 16, 17],
+    [3, 4, 5, 9, 10, 11],
+];
+const WEDGE12_LAYERS: [[usize; 6]; 2] = [[0, 1, 2, 6, 7, 8], [3, 4, 5, 9, 10, 11]];
+
+/// The quadratic pyramid (VTK: base 0-3, apex 4, edges 5:01 6:12 7:23 8:30 9:04 10:14 11:24
+/// 12:34) with its base centre as node 13, cut like a refined pyramid: 4 pyramids on the base
+/// corners, one at the apex, one upside down from the base centre to the 4 mid-height nodes, and
+/// a tet under each base edge between them.
+const PYRAMID14_PYRAMIDS: [[usize; 5]; 6] = [
+    [0, 5, 13, 8, 9],
+    [5, 1, 6, 13, 10],
+    [13, 6, 2, 7, 11],
+    [8, 13, 7, 3, 12],
+    [9, 10, 11, 12, 4],
+    [9, 12, 11, 10, 13],
+];
+const PYRAMID14_TETS: [[usize; 4]; 4] = [
+    [5, 13, 9, 10],
+    [6, 13, 10, 11],
+    [7, 13, 11, 12],
+    [8, 13, 12, 9],
+];
+
+/// The linear cells a quadratic 3-D cell is cut into, over its nodes once completed (the
+/// 20-node hexahedron, 15-node wedge and 13-node pyramid get the nodes they lack first; see
+/// `quadratic.rs`): 8 hexahedra, 8 wedges (4 for the 12-node wedge), 6 pyramids and 4 tets. Every
+/// piece is then split like a linear cell, so the pieces' quad faces take the global diagonal
+/// rule too and neighbours stay conforming. Empty for other types.
+pub fn sub_cells(t: u8) -> Vec<SubCell> {
+    use formats::cell_type as ct;
+    let wedges = |layers: &[[usize; 6]]| -> Vec<SubCell> {
+        let mut out = Vec::new();
+        for pair in layers.windows(2) {
+            for tri in TRIANGLE_IN_4 {
+                let mut w: Vec<usize> = tri.iter().map(|&k| pair[0][k]).collect();
+                w.extend(tri.iter().map(|&k| pair[1][k]));
+                out.push((w, &WEDGE_FACES[..]));
+            }
+        }
+        out
+    };
+    match t {
+        ct::QUADRATIC_HEXAHEDRON | ct::TRIQUADRATIC_HEXAHEDRON => tqhex_sub_hexes()
+            .iter()
+            .map(|h| (h.to_vec(), &HEX_FACES[..]))
+            .collect(),
+        ct::QUADRATIC_WEDGE | ct::BIQUADRATIC_QUADRATIC_WEDGE => wedges(&WEDGE18_LAYERS),
+        ct::QUADRATIC_LINEAR_WEDGE => wedges(&WEDGE12_LAYERS),
+        ct::QUADRATIC_PYRAMID => {
+            let mut out: Vec<SubCell> = PYRAMID14_PYRAMIDS
+                .iter()
+                .map(|p| (p.to_vec(), &PYRAMID_FACES[..]))
+                .collect();
+            out.extend(PYRAMID14_TETS.iter().map(|t| (t.to_vec(), &TET_FACES[..])));
+            out
+        }
+        _ => Vec::new(),
+    }
+}
+
 /// A vertex of a child tet: an existing point id, or the cell's new centre point.
 pub const CENTRE: i64 = -1;
 
@@ -760,6 +837,123 @@ mod tests {
             assert!(seen.insert(l0));
         }
         assert_eq!(seen.len(), 8);
+    }
+
+    #[test]
+    fn quadratic_cells_pieces_fill_the_cell() {
+        use formats::cell_type as ct;
+        // Straight cells under an affine map of determinant 8.984375 (so nothing is axis-aligned):
+        // mid-edge nodes at the edges' midpoints, face centres at the faces' centroids.
+        let skew = |p: [f64; 3]| {
+            [
+                2.0 * p[0] + 0.5 * p[1] + 1.0,
+                1.5 * p[1] - 0.25 * p[2] - 2.0,
+                3.0 * p[2] + 0.125 * p[0] + 0.5,
+            ]
+        };
+        let det = 8.984375;
+        let mean = |c: &[[f64; 3]], of: &[usize]| {
+            [0, 1, 2].map(|k| of.iter().map(|&l| c[l][k]).sum::<f64>() / of.len() as f64)
+        };
+        // VTK's positive wedge (see `wedge_pyramid_prisms`) and a skewed pyramid.
+        let w = [
+            [0., 0., 0.],
+            [0., 1., 0.],
+            [1., 0., 0.],
+            [0., 0., 1.],
+            [0., 1., 1.],
+            [1., 0., 1.],
+        ];
+        let wedge_nodes: Vec<[f64; 3]> = [
+            &[0][..],
+            &[1],
+            &[2],
+            &[3],
+            &[4],
+            &[5],
+            &[0, 1],
+            &[1, 2],
+            &[2, 0],
+            &[3, 4],
+            &[4, 5],
+            &[5, 3],
+            &[0, 3],
+            &[1, 4],
+            &[2, 5],
+            &[0, 1, 4, 3],
+            &[1, 2, 5, 4],
+            &[2, 0, 3, 5],
+        ]
+        .iter()
+        .map(|of| mean(&w, of))
+        .collect();
+        let p = [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0.3, 0.4, 1.],
+        ];
+        let pyramid_nodes: Vec<[f64; 3]> = [
+            &[0][..],
+            &[1],
+            &[2],
+            &[3],
+            &[4],
+            &[0, 1],
+            &[1, 2],
+            &[2, 3],
+            &[3, 0],
+            &[0, 4],
+            &[1, 4],
+            &[2, 4],
+            &[3, 4],
+            &[0, 1, 2, 3],
+        ]
+        .iter()
+        .map(|of| mean(&p, of))
+        .collect();
+        let hex_nodes: Vec<[f64; 3]> = TQHEX_LATTICE
+            .iter()
+            .map(|l| l.map(|x| 0.5 * x as f64))
+            .collect();
+        let twelve: Vec<[f64; 3]> = wedge_nodes[..12].to_vec();
+        for (t, nodes, size, pieces) in [
+            (ct::TRIQUADRATIC_HEXAHEDRON, hex_nodes, 1.0, 8),
+            (ct::BIQUADRATIC_QUADRATIC_WEDGE, wedge_nodes, 0.5, 8),
+            (ct::QUADRATIC_LINEAR_WEDGE, twelve, 0.5, 4),
+            (ct::QUADRATIC_PYRAMID, pyramid_nodes, 1.0 / 3.0, 10),
+        ] {
+            let subs = sub_cells(t);
+            assert_eq!(subs.len(), pieces, "type {t}");
+            let n = nodes.len();
+            // Global ids in both orders, so that the fans start at different corners.
+            for reversed in [false, true] {
+                let id = |l: usize| {
+                    if reversed {
+                        (n - 1 - l) as i64
+                    } else {
+                        l as i64
+                    }
+                };
+                let mut pts = vec![[0.0; 3]; n];
+                for (l, q) in nodes.iter().enumerate() {
+                    pts[id(l) as usize] = skew(*q);
+                }
+                let pos = pos_of(&pts);
+                let mut total = 0.0;
+                for (local, faces) in &subs {
+                    let ids: Vec<i64> = local.iter().map(|&l| id(l)).collect();
+                    let s = split_table(&ids, faces, &pos, &no_round).unwrap();
+                    assert!(
+                        !s.inverted && s.centre.is_none(),
+                        "type {t}: piece {local:?}"
+                    );
+                    total += volume(&s.tets, &pos);
+                }
+                assert!((total - det * size).abs() < 1e-13, "type {t}: {total}");
+            }
+        }
     }
 
     #[test]

@@ -2,12 +2,17 @@
 //!
 //! Supported 3-D cells: tetra (kept; flipped if inverted), voxel, hexahedron, wedge, pyramid,
 //! pentagonal and hexagonal prism, polyhedron (any closed polyhedron star-shaped from its smallest
-//! vertex or from its centre), quadratic tetra (10 nodes -> 8 tets), triquadratic hexahedron
-//! (27 nodes -> 8 hexahedra -> tets) and 20-node quadratic hexahedron (completed to 27 nodes
-//! first: its 6 face centres and body centre are new points placed by its own shape functions,
-//! their float point data by the same weights, integer and string data from the smallest-id
-//! corner; see [`quadratic`]). Other quadratic 3-D cells (15-node wedge, 13-node pyramid, ...)
-//! lack the nodes a linear split needs and are refused with an error naming the cell. See [`cells`] for the split rule and why it is conforming.
+//! vertex or from its centre), quadratic tetra (10 nodes -> 8 tets), and second-order
+//! hexahedra, wedges and pyramids, cut into linear pieces over their nodes first: triquadratic
+//! (27-node) and quadratic (20-node) hexahedra into 8 hexahedra, biquadratic-quadratic (18-node)
+//! and quadratic (15-node) wedges into 8 wedges, quadratic-linear (12-node) wedges into 4, and
+//! quadratic (13-node) pyramids into 6 pyramids and 4 tets (see [`cells::sub_cells`]). The
+//! 20-node hexahedron, 15-node wedge and 13-node pyramid lack nodes those pieces need (face
+//! centres, the body centre) and get them first as new points placed by the cell's own shape
+//! functions, one point per face for all the cells on it, with float point data by the same
+//! weights and integer and string data from the smallest-id corner (see [`quadratic`]). Other
+//! quadratic 3-D cells are refused with an error naming the cell. See [`cells`] for the split
+//! rule and why it is conforming.
 //!
 //! Data: every point is kept, in order, with its point data; cell data is copied to each child and
 //! an Int64 `original_cell_id` cell array gives each output cell's input cell (when the input
@@ -125,6 +130,7 @@ impl Chunk {
         self.parents.push(parent);
     }
 
+    /// Pushes a split's tets (the caller counts an inverted cell once, however many pieces).
     fn push_split(&mut self, s: Split, parent: usize, verts: impl FnOnce() -> Vec<i64>) {
         let local = s.centre.map(|c| {
             self.centres.push((c, verts()));
@@ -134,7 +140,6 @@ impl Chunk {
             let t = t.map(|v| if v == CENTRE { local.unwrap_or(v) } else { v });
             self.push_cell(ct::TETRA, &t, parent);
         }
-        self.inverted += s.inverted as usize;
     }
 }
 
@@ -187,10 +192,10 @@ fn polyhedron_faces(
     Ok(out)
 }
 
-const UNSUPPORTED: &str = "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron)";
+const UNSUPPORTED: &str = "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron, quadratic, quadratic-linear and biquadratic-quadratic wedge, quadratic pyramid)";
 
 /// The 3-D cell types [`tetrahedralize`] splits.
-const SPLITTABLE: [u8; 11] = [
+const SPLITTABLE: [u8; 15] = [
     ct::TETRA,
     ct::VOXEL,
     ct::HEXAHEDRON,
@@ -202,6 +207,10 @@ const SPLITTABLE: [u8; 11] = [
     ct::QUADRATIC_TETRA,
     ct::QUADRATIC_HEXAHEDRON,
     ct::TRIQUADRATIC_HEXAHEDRON,
+    ct::QUADRATIC_WEDGE,
+    ct::QUADRATIC_LINEAR_WEDGE,
+    ct::BIQUADRATIC_QUADRATIC_WEDGE,
+    ct::QUADRATIC_PYRAMID,
 ];
 
 /// Splits every 3-D cell into linear tets. `keep_lower`: keep 0-, 1- and 2-D cells as they are
@@ -222,12 +231,9 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
         let t = grid.cells.types[i];
         bail!("cell {i} ({}, type {t}): {UNSUPPORTED}", ct::name(t));
     }
-    let input_types = &grid.cells.types;
-    let completed = quadratic::complete_hex20(grid);
-    let (grid, hex20) = match &completed {
-        Some((g, n)) => (g, *n),
-        None => (grid, 0),
-    };
+    // Quadratic cells lacking face nodes get them (same type, more nodes: only for the split).
+    let completed = quadratic::complete(grid);
+    let grid = completed.as_ref().unwrap_or(grid);
     let pts = grid.points_f64();
     let pos = |i: i64| pts[i as usize];
     let float32 = matches!(grid.points.data, ArrayData::Float32(_));
@@ -242,7 +248,7 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
         }
     };
     let starts = face_stream_starts(grid);
-    let sub_hexes = cells::tqhex_sub_hexes();
+    let sub_cells: Vec<Vec<cells::SubCell>> = (0..=255u8).map(cells::sub_cells).collect();
     let prism5 = cells::prism_faces(5);
     let prism6 = cells::prism_faces(6);
     let prism5: Vec<&[usize]> = prism5.iter().map(|f| f.as_slice()).collect();
@@ -255,9 +261,7 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
         for i in range {
             let t = grid.cells.types[i];
             let ids = grid.cells.cell(i);
-            // Named as the input has it (a 20-node hexahedron is split as a 27-node one).
-            let t0 = input_types[i];
-            let fail = |what: &str| format!("cell {i} ({}, type {t0}): {what}", ct::name(t0));
+            let fail = |what: &str| format!("cell {i} ({}, type {t}): {what}", ct::name(t));
             let invalid = || {
                 fail("cannot be split into positively oriented tets (flat, or so warped or concave that no point inside it sees all its faces)")
             };
@@ -305,19 +309,34 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                         _ => (ids, &prism6),
                     };
                     let s = cells::split_table(ids, faces, &pos, &round).map_err(|_| invalid())?;
+                    out.inverted += s.inverted as usize;
                     out.push_split(s, i, || ids.to_vec());
                 }
                 ct::QUADRATIC_TETRA => {
                     let s = cells::split_quadratic_tet(ids, &pos).map_err(|_| invalid())?;
+                    out.inverted += s.inverted as usize;
                     out.push_split(s, i, Vec::new);
                 }
-                ct::TRIQUADRATIC_HEXAHEDRON => {
-                    for sub in &sub_hexes {
-                        let h = sub.map(|l| ids[l]);
-                        let s = cells::split_table(&h, &cells::HEX_FACES, &pos, &round)
+                _ if !sub_cells[t as usize].is_empty() => {
+                    // Linear pieces over the nodes. They must all turn the same way: a piece
+                    // turned over means a tangled cell, whose tets would overlap.
+                    let mut inverted = None;
+                    for (local, faces) in &sub_cells[t as usize] {
+                        let mut buf = [0i64; 8];
+                        let piece = &mut buf[..local.len()];
+                        for (v, &l) in piece.iter_mut().zip(local) {
+                            *v = ids[l];
+                        }
+                        let s = cells::split_table(piece, faces, &pos, &round)
                             .map_err(|_| invalid())?;
-                        out.push_split(s, i, || h.to_vec());
+                        if *inverted.get_or_insert(s.inverted) != s.inverted {
+                            return Err(fail(
+                                "is tangled: some of its linear pieces are inverted and others not",
+                            ));
+                        }
+                        out.push_split(s, i, || piece.to_vec());
                     }
+                    out.inverted += (inverted == Some(true)) as usize;
                 }
                 ct::POLYHEDRON => {
                     let mut faces =
@@ -389,10 +408,6 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
             .map(|t| (t as u8, v[t]))
             .collect()
     };
-    // 20-node hexahedra were split as the 27-node ones they were completed to; count them as
-    // what the input held.
-    split[ct::TRIQUADRATIC_HEXAHEDRON as usize] -= hex20;
-    split[ct::QUADRATIC_HEXAHEDRON as usize] += hex20;
     report.split = by_type(&split);
     report.dropped_by_type = by_type(&dropped);
     report.dropped = dropped.iter().sum();

@@ -367,16 +367,31 @@ fn warped_hex_gets_a_centre_point_with_interpolated_data() {
 
 #[test]
 fn flat_hex_and_unsupported_cells_are_errors() {
-    let pts: Vec<[f64; 3]> = (0..20).map(|i| [i as f64, (i % 3) as f64, 0.0]).collect();
+    let pts: Vec<[f64; 3]> = (0..24).map(|i| [i as f64, (i % 3) as f64, 0.0]).collect();
     let ids: Vec<i64> = (0..8).collect();
     let g = grid_of(pts.clone(), &[(ct::HEXAHEDRON, &ids)]);
     let e = tetrahedralize(&g, false).unwrap_err().to_string();
     assert!(e.contains("cell 0 (hexahedron"), "{e}");
+    // A flat quadratic wedge and pyramid: named as the input has them (their completion adds
+    // nodes, not a type).
     let ids: Vec<i64> = (0..15).collect();
-    let g = grid_of(pts, &[(ct::QUADRATIC_WEDGE, &ids)]);
+    let g = grid_of(
+        pts.clone(),
+        &[(ct::HEXAHEDRON, &ids[..8]), (ct::QUADRATIC_WEDGE, &ids)],
+    );
+    let e = tetrahedralize(&g, false).unwrap_err().to_string();
+    assert!(e.contains("cell 0 (hexahedron, type 12)"), "{e}");
+    let g = grid_of(pts.clone(), &[(ct::QUADRATIC_WEDGE, &ids)]);
+    let e = tetrahedralize(&g, false).unwrap_err().to_string();
+    assert!(e.contains("cell 0 (quadratic_wedge, type 26)"), "{e}");
+    let g = grid_of(pts.clone(), &[(ct::QUADRATIC_PYRAMID, &ids[..13])]);
+    let e = tetrahedralize(&g, false).unwrap_err().to_string();
+    assert!(e.contains("cell 0 (quadratic_pyramid, type 27)"), "{e}");
+    let ids: Vec<i64> = (0..24).collect();
+    let g = grid_of(pts, &[(ct::BIQUADRATIC_QUADRATIC_HEXAHEDRON, &ids)]);
     let e = tetrahedralize(&g, false).unwrap_err().to_string();
     assert!(
-        e.contains("quadratic_wedge") && e.contains("not supported"),
+        e.contains("cell 0 (biquadratic_quadratic_hexahedron") && e.contains("not supported"),
         "{e}"
     );
 }
