@@ -5,6 +5,8 @@
 #                   transfinite quad face: 8 x 2 x 2 hexahedra at order 2 incomplete (20 nodes,
 #                   mid-edge nodes on the arcs, so the cells are curved), with the boundary's
 #                   8-node quads, 3-node lines and corner points; MSH 4.1 ASCII
+#   wedge15_ring.msh the same ring with the quad face left in triangles: 64 curved 15-node prisms
+#                   on the same boundary nodes as hex20_ring.msh
 #   box_o2_incomplete.msh, box_o2_complete.msh
 #                   the box [0,2] x [0,1] x [0,1.5] with straight edges: 2 x 2 x 2 hexahedra on
 #                   x < 1 and 16 prisms on x > 1 (both extruded in 2 layers from a quad and a
@@ -37,6 +39,9 @@ Extrude {0, 0, 1} { Surface{1}; Layers{2}; Recombine; }
 GEO
 gmsh -3 "$work/ring.geo" -format msh41 -order 2 -setnumber Mesh.SecondOrderIncomplete 1 \
   -o "$out/hex20_ring.msh" >"$work/log" 2>&1 || { cat "$work/log"; exit 1; }
+sed '/^Recombine Surface/d' "$work/ring.geo" >"$work/ring_prisms.geo"
+gmsh -3 "$work/ring_prisms.geo" -format msh41 -order 2 -setnumber Mesh.SecondOrderIncomplete 1 \
+  -o "$out/wedge15_ring.msh" >"$work/log" 2>&1 || { cat "$work/log"; exit 1; }
 cat >"$work/box.geo" <<'GEO'
 Point(1) = {0, 0, 0};
 Point(2) = {1, 0, 0};

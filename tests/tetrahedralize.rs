@@ -560,3 +560,26 @@ fn gmsh_order2_box_of_hexes_prisms_and_pyramids() {
     }
     assert_eq!(counts[0], counts[1]);
 }
+
+/// The quarter ring of curved 15-node prisms (scripts/make_quadratic_fixtures.sh) has the same
+/// boundary nodes as the ring of 20-node hexahedra, and its curved quad faces get the same
+/// centres: both fill the same volume and show the same surface, with no crack inside.
+#[test]
+fn curved_prism_ring_matches_the_hexahedron_ring() {
+    let mut seen = Vec::new();
+    for rel in ["quadratic/wedge15_ring.msh", "quadratic/hex20_ring.msh"] {
+        let g = formats::read(&fixture(rel)).unwrap();
+        let (t, report) = tetrahedralize(&g, true).unwrap();
+        assert_eq!(report.tets_out, 1536, "{rel}: {report:?}");
+        let volume = check_tets(&g, &t, true);
+        check_data_carried(&g, &t);
+        seen.push((volume, free_area(&t)));
+    }
+    let ((v0, a0), (v1, a1)) = (seen[0], seen[1]);
+    assert!(
+        (v0 - v1).abs() < 1e-12 && (a0 - a1).abs() < 1e-12,
+        "{seen:?}"
+    );
+    // Straight-edged pieces of a ring of volume 3 pi / 4 = 2.3562.
+    assert!((v0 - 2.3524).abs() < 1e-4, "{v0}");
+}

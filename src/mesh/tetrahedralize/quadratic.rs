@@ -112,7 +112,13 @@ impl NewPoints {
 /// on, as tetrahedralization's centre points do.
 pub fn complete(grid: &Grid) -> Option<Grid> {
     let types = &grid.cells.types;
-    if !types.iter().any(|&t| !added_nodes(t).is_empty()) {
+    let incomplete = |t: u8| {
+        matches!(
+            t,
+            ct::QUADRATIC_HEXAHEDRON | ct::QUADRATIC_WEDGE | ct::QUADRATIC_PYRAMID
+        )
+    };
+    if !types.iter().any(|&t| incomplete(t)) {
         return None;
     }
     let added: Vec<Vec<Added>> = (0..=255u8).map(added_nodes).collect();

@@ -480,3 +480,87 @@ fn collapsed_hexahedra_are_split_like_the_cell_they_stand_for() {
         assert!((v - volume).abs() < 1e-15, "{ids:?}: {v}");
     }
 }
+
+#[test]
+fn second_order_wedges_inverted_once_and_tangled_refused() {
+    // VTK's positive wedge with its mid-edge nodes and quad-face centres (18 nodes); `lift` moves
+    // the middle layer (vertical edges' mid nodes, face centres) to that height.
+    let wedge = |flip: bool, lift: f64| -> Vec<[f64; 3]> {
+        let c = [
+            [0., 0., 0.],
+            [0., 1., 0.],
+            [1., 0., 0.],
+            [0., 0., 1.],
+            [0., 1., 1.],
+            [1., 0., 1.],
+        ];
+        let of: [&[usize]; 18] = [
+            &[0],
+            &[1],
+            &[2],
+            &[3],
+            &[4],
+            &[5],
+            &[0, 1],
+            &[1, 2],
+            &[2, 0],
+            &[3, 4],
+            &[4, 5],
+            &[5, 3],
+            &[0, 3],
+            &[1, 4],
+            &[2, 5],
+            &[0, 1, 4, 3],
+            &[1, 2, 5, 4],
+            &[2, 0, 3, 5],
+        ];
+        of.iter()
+            .enumerate()
+            .map(|(n, of)| {
+                let mut p = [0, 1, 2].map(|k| of.iter().map(|&l| c[l][k]).sum::<f64>());
+                p = p.map(|x| x / of.len() as f64);
+                if (12..18).contains(&n) {
+                    p[2] = lift;
+                }
+                if flip {
+                    p[2] = -p[2];
+                }
+                p
+            })
+            .collect()
+    };
+    let ids: Vec<i64> = (0..18).collect();
+    for (t, n) in [
+        (ct::BIQUADRATIC_QUADRATIC_WEDGE, 18),
+        (ct::QUADRATIC_WEDGE, 15),
+    ] {
+        for flip in [false, true] {
+            let g = grid_of(wedge(flip, 0.5), &[(t, &ids[..n])]);
+            let (out, r) = tetrahedralize(&g, false).unwrap();
+            assert_eq!(r.inverted, flip as usize, "type {t}");
+            assert_eq!(r.split, vec![(t, 1)]);
+            let p = out.points_f64();
+            let v: f64 = (0..out.num_cells())
+                .map(|i| {
+                    let q = out
+                        .cells
+                        .cell(i)
+                        .iter()
+                        .map(|&v| p[v as usize])
+                        .collect::<Vec<_>>();
+                    let v = tet_volume(&q[0], &q[1], &q[2], &q[3]);
+                    assert!(v > 0.0);
+                    v
+                })
+                .sum();
+            assert!((v - 0.5).abs() < 1e-15, "type {t}: {v}");
+        }
+        // The middle layer above the top: the upper pieces turn over, the lower ones do not.
+        let g = grid_of(wedge(false, 1.5), &[(t, &ids[..n])]);
+        let e = tetrahedralize(&g, false).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("cell 0 ({}, type {t}): is tangled", ct::name(t))),
+            "{e}"
+        );
+    }
+}
