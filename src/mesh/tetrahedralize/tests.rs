@@ -482,7 +482,7 @@ fn collapsed_hexahedra_are_split_like_the_cell_they_stand_for() {
 }
 
 #[test]
-fn second_order_wedges_inverted_once_and_tangled_refused() {
+fn second_order_wedges_split_inverted_once_tangled_refused() {
     // VTK's positive wedge with its mid-edge nodes and quad-face centres (18 nodes); `lift` moves
     // the middle layer (vertical edges' mid nodes, face centres) to that height.
     let wedge = |flip: bool, lift: f64| -> Vec<[f64; 3]> {
@@ -563,4 +563,26 @@ fn second_order_wedges_inverted_once_and_tangled_refused() {
             "{e}"
         );
     }
+    // The 12-node wedge (no middle layer): 4 wedges, 12 tets, no new point.
+    let nodes = wedge(false, 0.5);
+    let g = grid_of(
+        nodes[..12].to_vec(),
+        &[(ct::QUADRATIC_LINEAR_WEDGE, &ids[..12])],
+    );
+    let (out, r) = tetrahedralize(&g, false).unwrap();
+    assert_eq!(r.split, vec![(ct::QUADRATIC_LINEAR_WEDGE, 1)]);
+    assert_eq!((out.num_cells(), out.num_points()), (12, 12));
+    let p = out.points_f64();
+    let v: f64 = (0..12)
+        .map(|i| {
+            let q = out
+                .cells
+                .cell(i)
+                .iter()
+                .map(|&v| p[v as usize])
+                .collect::<Vec<_>>();
+            tet_volume(&q[0], &q[1], &q[2], &q[3])
+        })
+        .sum();
+    assert!((v - 0.5).abs() < 1e-15, "{v}");
 }
