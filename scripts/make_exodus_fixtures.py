@@ -4,6 +4,8 @@ and hand.exo (CDF-1) byte by byte with the cells VTK's writer cannot write; besi
 VTK's vtkExodusIIReader makes of it, its blocks appended into one grid, as X_vtk.vtu.
 
 Run with VTK's Python: /usr/bin/python3 scripts/make_exodus_fixtures.py
+Then scripts/make_exodus_nc4_fixtures.sh makes their NetCDF-4 (HDF5) copies in fixtures/exodus/nc4/
+(with nccopy from netcdf-bin, needed only to regenerate them).
 """
 import os
 import struct

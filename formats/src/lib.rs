@@ -378,7 +378,8 @@ fn checked(grid: Grid, path: &Path) -> Result<Grid> {
 }
 
 /// An `.exo` whose content is another format's is refused as such; content of no known format
-/// (NetCDF-4's HDF5, say) is left to the Exodus reader, which says what it is.
+/// (NetCDF-4's HDF5, which is not sniffed: HDF5 holds many formats) is left to the Exodus
+/// reader, which reads NetCDF-4 and says what else it is.
 fn check_exodus_sniff(path: &Path, bytes: &[u8]) -> Result<()> {
     match sniff(bytes) {
         None => Ok(()),

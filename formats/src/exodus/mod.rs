@@ -1,5 +1,8 @@
-//! Exodus II meshes (classic NetCDF: CDF-1, CDF-2, CDF-5) read into a [`Grid`]; read only.
+//! Exodus II meshes read into a [`Grid`]; read only. Classic NetCDF (CDF-1, CDF-2, CDF-5) is
+//! parsed here (netcdf.rs); NetCDF-4 (HDF5, as meshio and SEACAS's netCDF-4 output write it) is
+//! read through the pure-Rust `netcdf-reader` crate (nc4.rs); both answer read.rs alike.
 
+mod nc4;
 mod netcdf;
 mod read;
 mod types;
@@ -48,7 +51,7 @@ pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
 /// The times of the file's steps (`time_whole`; NaN where a step has none), for listing.
 pub fn times(path: &Path) -> Result<Vec<f64>> {
     let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
-    read::times(&netcdf::File::parse(&bytes, path)?)
+    read::times_of(&bytes, path)
 }
 
 /// Reads an Exodus II file from memory at time step `sel`; `path` names it in errors.
@@ -61,7 +64,10 @@ pub fn times(path: &Path) -> Result<Vec<f64>> {
 /// out); point arrays: `GlobalNodeId` (Int64, from `node_num_map` or 1, 2, ...), the nodal variables of the
 /// step and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times),
 /// `exodus:block_names`, and each global variable over all steps. Side sets are skipped with a
-/// warning; QA and info records are skipped. NetCDF-4 (HDF5) files are refused.
+/// warning; QA and info records are skipped. NetCDF-4 (HDF5) files, also behind a user block of
+/// 512, 1024, ... bytes, read exactly as their classic copies do: chunked, compressed (deflate,
+/// shuffle), NC_STRING names and 64-bit integers alike; an HDF5 file that is not Exodus II is
+/// refused naming what it lacks.
 pub fn read_from(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
     read::read(bytes, path, sel)
 }

@@ -283,25 +283,19 @@ impl Header<'_> {
 impl<'a> File<'a> {
     /// Parses the header of a classic NetCDF file.
     pub fn parse(bytes: &'a [u8], path: &'a Path) -> Result<File<'a>> {
-        let (cdf5, long_offsets) =
-            match bytes.get(..4) {
-                Some(b"CDF\x01") => (false, false),
-                Some(b"CDF\x02") => (false, true),
-                Some(b"CDF\x05") => (true, true),
-                Some(b"\x89HDF") => return Err(FormatError::at_byte(
+        let (cdf5, long_offsets) = match bytes.get(..4) {
+            Some(b"CDF\x01") => (false, false),
+            Some(b"CDF\x02") => (false, true),
+            Some(b"CDF\x05") => (true, true),
+            _ => {
+                return Err(FormatError::at_byte(
                     0,
-                    "this is a NetCDF-4 (HDF5) file; tetkit reads Exodus II in the classic NetCDF \
-                     encodings (CDF-1, CDF-2, CDF-5) only: convert it with `nccopy -k cdf5`",
+                    "not a NetCDF file: neither classic (no CDF\\x01, CDF\\x02 or CDF\\x05 \
+                         magic) nor NetCDF-4 (no HDF5 signature at byte 0, 512, 1024, ...)",
                 )
-                .with_file(path)),
-                _ => {
-                    return Err(FormatError::at_byte(
-                        0,
-                        "not a classic NetCDF file (no CDF\\x01, CDF\\x02 or CDF\\x05 magic)",
-                    )
-                    .with_file(path))
-                }
-            };
+                .with_file(path))
+            }
+        };
         let mut h = Header {
             bytes,
             pos: 4,
@@ -549,12 +543,90 @@ impl<'a> File<'a> {
         if width == 0 {
             return Err(self.err_var(var, "holds strings of length 0"));
         }
-        Ok(raw
-            .chunks_exact(width)
-            .map(|row| {
-                let end = row.iter().position(|&b| b == 0).unwrap_or(row.len());
-                String::from_utf8_lossy(&row[..end]).trim_end().to_string()
-            })
-            .collect())
+        Ok(raw.chunks_exact(width).map(text_row).collect())
+    }
+}
+
+/// One row of a char array (or one NC_STRING) as a name: up to its first NUL, trailing blanks
+/// dropped.
+pub fn text_row(row: &[u8]) -> String {
+    let end = row.iter().position(|&b| b == 0).unwrap_or(row.len());
+    String::from_utf8_lossy(&row[..end]).trim_end().to_string()
+}
+
+/// What the Exodus reader asks of a NetCDF file: the classic [`File`] and the NetCDF-4
+/// [`super::nc4::Nc4`] answer alike, so that both read to the same grid. Variables are named by
+/// their index.
+pub trait Source {
+    /// The file's name, for errors.
+    fn path(&self) -> &Path;
+    /// The number of records (time steps): the record (unlimited) dimension's length.
+    fn numrecs(&self) -> u64;
+    /// A dimension's length (the record dimension's: [`Source::numrecs`]).
+    fn dim(&self, name: &str) -> Option<u64>;
+    fn num_dims(&self) -> usize;
+    fn var(&self, name: &str) -> Option<usize>;
+    fn num_vars(&self) -> usize;
+    /// The variable's type; `None` for a type classic NetCDF lacks (NC_STRING, user-defined).
+    fn ty(&self, var: usize) -> Option<NcType>;
+    /// Whether the variable's first dimension is the record dimension.
+    fn is_record(&self, var: usize) -> bool;
+    /// The variable's shape, the record dimension as `numrecs`.
+    fn shape(&self, var: usize) -> Vec<u64>;
+    /// A text attribute of the variable.
+    fn attr_text(&self, var: usize, name: &str) -> Option<String>;
+    /// Record `rec` of a record variable, or a whole fixed variable (`rec` 0), converted to `T`
+    /// as [`FromNc`] converts the classic file's values.
+    fn values<T: FromNc>(&self, var: usize, rec: u64) -> Result<Vec<T>>;
+    /// A fixed 2-D char variable (or 1-D NC_STRING one) as strings, one per row (see
+    /// [`text_row`]).
+    fn strings(&self, var: usize) -> Result<Vec<String>>;
+    /// An error about the variable, naming it and the file.
+    fn err_var(&self, var: usize, msg: impl Into<String>) -> FormatError;
+}
+
+impl Source for File<'_> {
+    fn path(&self) -> &Path {
+        self.path
+    }
+    fn numrecs(&self) -> u64 {
+        self.numrecs
+    }
+    fn dim(&self, name: &str) -> Option<u64> {
+        File::dim(self, name)
+    }
+    fn num_dims(&self) -> usize {
+        self.dims.len()
+    }
+    fn var(&self, name: &str) -> Option<usize> {
+        File::var(self, name)
+    }
+    fn num_vars(&self) -> usize {
+        self.vars.len()
+    }
+    fn ty(&self, var: usize) -> Option<NcType> {
+        Some(self.vars[var].ty)
+    }
+    fn is_record(&self, var: usize) -> bool {
+        File::is_record(self, var)
+    }
+    fn shape(&self, var: usize) -> Vec<u64> {
+        File::shape(self, var)
+    }
+    fn attr_text(&self, var: usize, name: &str) -> Option<String> {
+        self.vars[var]
+            .attrs
+            .iter()
+            .find(|a| a.name == name)
+            .and_then(Attr::text)
+    }
+    fn values<T: FromNc>(&self, var: usize, rec: u64) -> Result<Vec<T>> {
+        File::values(self, var, rec)
+    }
+    fn strings(&self, var: usize) -> Result<Vec<String>> {
+        File::strings(self, var)
+    }
+    fn err_var(&self, var: usize, msg: impl Into<String>) -> FormatError {
+        File::err_var(self, var, msg)
     }
 }

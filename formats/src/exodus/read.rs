@@ -1,6 +1,7 @@
-//! The Exodus II data model read from a classic NetCDF file into a [`Grid`].
+//! The Exodus II data model read from a NetCDF file, classic or NetCDF-4, into a [`Grid`].
 
-use super::netcdf::{File, NcType};
+use super::nc4::{is_hdf5, Nc4};
+use super::netcdf::{File, NcType, Source};
 use super::types::cell_kind;
 use super::{names, warn};
 use crate::pvd::Selector;
@@ -9,9 +10,27 @@ use std::path::Path;
 
 /// Reads the Exodus file in `bytes` at the time step `sel` (see [`super::read_from`]).
 pub(crate) fn read(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
-    let f = File::parse(bytes, path)?;
+    if is_hdf5(bytes) {
+        read_source(&Nc4::open(bytes, path)?, sel)
+    } else {
+        read_source(&File::parse(bytes, path)?, sel)
+    }
+}
+
+/// The times of the file's steps in `bytes` (see [`times`]).
+pub(crate) fn times_of(bytes: &[u8], path: &Path) -> Result<Vec<f64>> {
+    if is_hdf5(bytes) {
+        times(&Nc4::open(bytes, path)?)
+    } else {
+        times(&File::parse(bytes, path)?)
+    }
+}
+
+fn read_source<S: Source>(f: &S, sel: Selector) -> Result<Grid> {
+    let path = f.path();
     let whole = |msg: String| FormatError::whole(msg).with_file(path);
-    let steps = f.numrecs;
+    exodus_or_refuse(f)?;
+    let steps = f.numrecs();
     let step = match sel {
         Selector::Index(k) => k as u64,
         Selector::Last => steps.saturating_sub(1),
@@ -27,11 +46,11 @@ pub(crate) fn read(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
         )));
     }
     let mut g = Grid {
-        points: points(&f)?,
+        points: points(f)?,
         ..Grid::default()
     };
     let n_points = g.num_points();
-    let blocks = blocks(&f, n_points, &mut g.cells)?;
+    let blocks = blocks(f, n_points, &mut g.cells)?;
     let n_cells = g.cells.len();
 
     let ids: Vec<i32> = blocks
@@ -49,9 +68,9 @@ pub(crate) fn read(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
             ArrayData::String(names),
         ));
     }
-    node_sets(&f, n_points, &mut g)?;
+    node_sets(f, n_points, &mut g)?;
     if f.dim("num_side_sets").is_some_and(|n| n > 0) {
-        let names = set_names(&f, "ss_names", "ss_prop1", "num_side_sets")?;
+        let names = set_names(f, "ss_names", "ss_prop1", "num_side_sets")?;
         warn(&format!(
             "{}: side sets skipped: {}",
             path.display(),
@@ -63,41 +82,66 @@ pub(crate) fn read(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
             g.field_data.push(DataArray::new(
                 names::TIME,
                 1,
-                ArrayData::Float64(times(&f)?),
+                ArrayData::Float64(times(f)?),
             ));
         }
-        nodal_vars(&f, step, n_points, &mut g)?;
-        element_vars(&f, step, &blocks, &mut g)?;
-        global_vars(&f, &mut g)?;
+        nodal_vars(f, step, n_points, &mut g)?;
+        element_vars(f, step, &blocks, &mut g)?;
+        global_vars(f, &mut g)?;
     }
     // After the variables: VTK's writer also stores the id arrays as variables of the same
     // name, and the maps win, as in VTK's reader.
-    let map = id_map(&f, "elem_num_map", n_cells)?;
+    let map = id_map(f, "elem_num_map", n_cells)?;
     g.cell_data
         .insert(DataArray::new(names::ELEMENT_ID, 1, ArrayData::Int64(map)));
-    let map = id_map(&f, "node_num_map", n_points)?;
+    let map = id_map(f, "node_num_map", n_points)?;
     g.point_data
         .insert(DataArray::new(names::NODE_ID, 1, ArrayData::Int64(map)));
     Ok(g)
 }
 
+/// A NetCDF file that is not Exodus II (no `num_dim`, say: any NetCDF-4 file is HDF5, and
+/// HDF5 files are many things) is refused naming what it lacks.
+fn exodus_or_refuse<S: Source>(f: &S) -> Result<()> {
+    if f.dim("num_dim").is_some() {
+        return Ok(());
+    }
+    let mut missing = vec!["the dimension num_dim"];
+    if f.dim("num_nodes").is_none() {
+        missing.push("the dimension num_nodes");
+    }
+    if ["coordx", "coord"].iter().all(|v| f.var(v).is_none()) {
+        missing.push("coordinates (coordx/coordy/coordz or coord)");
+    }
+    if f.var("connect1").is_none() {
+        missing.push("connectivity (connect1)");
+    }
+    Err(FormatError::whole(format!(
+        "a NetCDF file with {} dimensions and {} variables but not Exodus II: it lacks {}",
+        f.num_dims(),
+        f.num_vars(),
+        missing.join(", ")
+    ))
+    .with_file(f.path()))
+}
+
 /// The time of each step (`time_whole`; NaN for a step without one).
-pub(crate) fn times(f: &File<'_>) -> Result<Vec<f64>> {
+pub(crate) fn times<S: Source>(f: &S) -> Result<Vec<f64>> {
     let Some(v) = f.var("time_whole") else {
-        return Ok(vec![f64::NAN; f.numrecs as usize]);
+        return Ok(vec![f64::NAN; f.numrecs() as usize]);
     };
-    (0..f.numrecs)
+    (0..f.numrecs())
         .map(|k| Ok(f.values::<f64>(v, k)?.first().copied().unwrap_or(f64::NAN)))
         .collect()
 }
 
 /// The dimension's length, 0 when the file lacks it.
-fn dim(f: &File<'_>, name: &str) -> u64 {
+fn dim<S: Source>(f: &S, name: &str) -> u64 {
     f.dim(name).unwrap_or(0)
 }
 
-fn points(f: &File<'_>) -> Result<DataArray> {
-    let whole = |msg: String| FormatError::whole(msg).with_file(f.path);
+fn points<S: Source>(f: &S) -> Result<DataArray> {
+    let whole = |msg: String| FormatError::whole(msg).with_file(f.path());
     let n = dim(f, "num_nodes");
     let nd = dim(f, "num_dim");
     if !(1..=3).contains(&nd) {
@@ -113,11 +157,11 @@ fn points(f: &File<'_>) -> Result<DataArray> {
     let mut float32 = true;
     if axes.iter().all(Option::is_some) {
         for v in axes.into_iter().flatten() {
-            float32 &= f.vars[v].ty == NcType::Float;
+            float32 &= f.ty(v) == Some(NcType::Float);
             columns.push(f.values(v, 0)?);
         }
     } else if let Some(v) = f.var("coord") {
-        float32 = f.vars[v].ty == NcType::Float;
+        float32 = f.ty(v) == Some(NcType::Float);
         let all: Vec<f64> = f.values(v, 0)?;
         if all.len() as u64 != n * nd as u64 {
             return Err(f.err_var(
@@ -168,7 +212,7 @@ pub(crate) struct Block {
     pub cells: usize,
 }
 
-fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>> {
+fn blocks<S: Source>(f: &S, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>> {
     let n = dim(f, "num_el_blk");
     let ids = match f.var("eb_prop1") {
         Some(v) => {
@@ -186,11 +230,11 @@ fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>
         // No ids: number the blocks from 1, as they are named connect1, connect2, ...
         None => {
             // Each block has a dimension or variable of its own: a larger count is corrupt.
-            if n > (f.dims.len() + f.vars.len()) as u64 {
+            if n > (f.num_dims() + f.num_vars()) as u64 {
                 return Err(FormatError::whole(format!(
                     "num_el_blk is {n}, more blocks than the file describes"
                 ))
-                .with_file(f.path));
+                .with_file(f.path()));
             }
             (1..=n as i32).collect()
         }
@@ -208,12 +252,8 @@ fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>
         if f.is_record(v) {
             return Err(f.err_var(v, "is a record variable; connectivity is fixed"));
         }
-        let var = &f.vars[v];
-        let elem_type = var
-            .attrs
-            .iter()
-            .find(|a| a.name == "elem_type")
-            .and_then(|a| a.text())
+        let elem_type = f
+            .attr_text(v, "elem_type")
             .ok_or_else(|| f.err_var(v, "has no elem_type attribute"))?;
         let shape = f.shape(v);
         let npe = match shape.as_slice() {
@@ -251,7 +291,7 @@ fn blocks(f: &File<'_>, n_points: usize, cells: &mut Cells) -> Result<Vec<Block>
 
 /// A node or element number map; a file without one numbers its objects 1, 2, ... (Exodus's
 /// default map, which VTK's reader gives too).
-fn id_map(f: &File<'_>, name: &str, expect: usize) -> Result<Vec<i64>> {
+fn id_map<S: Source>(f: &S, name: &str, expect: usize) -> Result<Vec<i64>> {
     let Some(v) = f.var(name) else {
         return Ok((1..=expect as i64).collect());
     };
@@ -264,7 +304,7 @@ fn id_map(f: &File<'_>, name: &str, expect: usize) -> Result<Vec<i64>> {
 
 /// The names of the sets counted by dimension `count`: from `names_var` where given and not
 /// empty, else the set's id from `ids_var`, else its number.
-fn set_names(f: &File<'_>, names_var: &str, ids_var: &str, count: &str) -> Result<Vec<String>> {
+fn set_names<S: Source>(f: &S, names_var: &str, ids_var: &str, count: &str) -> Result<Vec<String>> {
     let n = dim(f, count) as usize;
     let given = match f.var(names_var) {
         Some(v) => f.strings(v)?,
@@ -275,7 +315,7 @@ fn set_names(f: &File<'_>, names_var: &str, ids_var: &str, count: &str) -> Resul
         None => Vec::new(),
     };
     // A name per set, but no more sets than the file has variables for.
-    let n = n.min(given.len().max(ids.len()).max(f.vars.len()));
+    let n = n.min(given.len().max(ids.len()).max(f.num_vars()));
     Ok((0..n)
         .map(|i| match (given.get(i), ids.get(i)) {
             (Some(s), _) if !s.is_empty() => s.clone(),
@@ -286,7 +326,7 @@ fn set_names(f: &File<'_>, names_var: &str, ids_var: &str, count: &str) -> Resul
 }
 
 /// Node sets as UInt8 point arrays `nodeset:NAME` (1 for the set's nodes).
-fn node_sets(f: &File<'_>, n_points: usize, g: &mut Grid) -> Result<()> {
+fn node_sets<S: Source>(f: &S, n_points: usize, g: &mut Grid) -> Result<()> {
     if dim(f, "num_node_sets") == 0 {
         return Ok(());
     }
@@ -312,18 +352,18 @@ fn node_sets(f: &File<'_>, n_points: usize, g: &mut Grid) -> Result<()> {
 }
 
 /// Variable names from `var` (`name_nod_var`, ...), `fallback{k}` where missing or empty.
-fn var_names(f: &File<'_>, var: &str, count: usize, fallback: &str) -> Result<Vec<String>> {
+fn var_names<S: Source>(f: &S, var: &str, count: usize, fallback: &str) -> Result<Vec<String>> {
     let given = match f.var(var) {
         Some(v) => f.strings(v)?,
         None => Vec::new(),
     };
     // Each variable has a name row or a variable of its own in the file: a larger count is
     // corrupt, and is refused before anything is allocated for it.
-    if count > given.len().max(f.vars.len()) {
+    if count > given.len().max(f.num_vars()) {
         return Err(FormatError::whole(format!(
             "{count} variables counted for {var}, more than the file could hold"
         ))
-        .with_file(f.path));
+        .with_file(f.path()));
     }
     Ok((0..count)
         .map(|k| match given.get(k) {
@@ -342,7 +382,7 @@ fn typed(float32: bool, values: Vec<f64>) -> ArrayData {
     }
 }
 
-fn nodal_vars(f: &File<'_>, step: u64, n_points: usize, g: &mut Grid) -> Result<()> {
+fn nodal_vars<S: Source>(f: &S, step: u64, n_points: usize, g: &mut Grid) -> Result<()> {
     let n = dim(f, "num_nod_var") as usize;
     if n == 0 {
         return Ok(());
@@ -364,13 +404,13 @@ fn nodal_vars(f: &File<'_>, step: u64, n_points: usize, g: &mut Grid) -> Result<
                         format!("holds too few values for nodal variable {}", k + 1),
                     )
                 })?;
-                (part.to_vec(), f.vars[v].ty == NcType::Float)
+                (part.to_vec(), f.ty(v) == Some(NcType::Float))
             }
             _ => {
                 let Some(v) = f.var(&format!("vals_nod_var{}", k + 1)) else {
                     warn(&format!(
                         "{}: nodal variable '{name}' has no values (vals_nod_var{}); skipped",
-                        f.path.display(),
+                        f.path().display(),
                         k + 1
                     ));
                     continue;
@@ -381,7 +421,7 @@ fn nodal_vars(f: &File<'_>, step: u64, n_points: usize, g: &mut Grid) -> Result<
                         f.err_var(v, format!("{} values for {n_points} nodes", values.len()))
                     );
                 }
-                (values, f.vars[v].ty == NcType::Float)
+                (values, f.ty(v) == Some(NcType::Float))
             }
         };
         g.point_data
@@ -390,7 +430,7 @@ fn nodal_vars(f: &File<'_>, step: u64, n_points: usize, g: &mut Grid) -> Result<
     Ok(())
 }
 
-fn element_vars(f: &File<'_>, step: u64, blocks: &[Block], g: &mut Grid) -> Result<()> {
+fn element_vars<S: Source>(f: &S, step: u64, blocks: &[Block], g: &mut Grid) -> Result<()> {
     let n = dim(f, "num_elem_var") as usize;
     if n == 0 {
         return Ok(());
@@ -431,7 +471,7 @@ fn element_vars(f: &File<'_>, step: u64, blocks: &[Block], g: &mut Grid) -> Resu
                             format!("{} values for {} elements", vals.len(), block.cells),
                         ));
                     }
-                    float32 &= f.vars[v].ty == NcType::Float;
+                    float32 &= f.ty(v) == Some(NcType::Float);
                     values.extend(vals);
                 }
                 // NaN where the block does not hold the variable, as VTK leaves it undefined.
@@ -445,14 +485,14 @@ fn element_vars(f: &File<'_>, step: u64, blocks: &[Block], g: &mut Grid) -> Resu
 }
 
 /// Global variables: one field array each, its value at every time step.
-fn global_vars(f: &File<'_>, g: &mut Grid) -> Result<()> {
+fn global_vars<S: Source>(f: &S, g: &mut Grid) -> Result<()> {
     let n = dim(f, "num_glo_var") as usize;
     let Some(v) = f.var("vals_glo_var").filter(|_| n > 0) else {
         return Ok(());
     };
     let names = var_names(f, "name_glo_var", n, "glo_var")?;
-    let mut columns = vec![Vec::with_capacity(f.numrecs.min(1 << 16) as usize); n];
-    for step in 0..f.numrecs {
+    let mut columns = vec![Vec::with_capacity(f.numrecs().min(1 << 16) as usize); n];
+    for step in 0..f.numrecs() {
         let row: Vec<f64> = f.values(v, step)?;
         if row.len() != n {
             return Err(f.err_var(v, format!("{} values for {n} global variables", row.len())));

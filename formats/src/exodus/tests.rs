@@ -630,8 +630,13 @@ fn netcdf_refusals_name_byte_and_variable() {
     let good = exodus(1).bytes();
     let mut hdf = b"\x89HDF\r\n\x1a\n".to_vec();
     hdf.extend_from_slice(&[0; 64]);
-    assert!(err(&hdf).contains("NetCDF-4 (HDF5)"), "{}", err(&hdf));
-    assert!(err(b"CDF\x03rest").contains("byte 0: not a classic NetCDF"));
+    let e = err(&hdf);
+    assert!(e.starts_with("t.exo: NetCDF-4 (HDF5): "), "{e}");
+    let e = err(b"CDF\x03rest");
+    assert!(
+        e.contains("byte 0: not a NetCDF file: neither classic"),
+        "{e}"
+    );
     // Truncated in the header.
     let e = err(&good[..10]);
     assert!(
@@ -707,6 +712,117 @@ fn truncations_and_flipped_bytes_give_errors_not_panics() {
                 let mut c = b.clone();
                 c[i] ^= x;
                 let _ = read_at(&c, Selector::Last);
+            }
+        }
+    }
+}
+
+/// The NetCDF-4 fixtures (scripts/make_exodus_nc4_fixtures.sh) beside their classic originals.
+fn nc4_fixture(name: &str) -> Vec<u8> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures/exodus")
+        .join(name);
+    std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Everything bit for bit: points, cells, and every array by name, type, components, values.
+fn assert_same_grid(what: &str, a: &Grid, b: &Grid) {
+    assert!(a.points.bit_eq(&b.points), "{what}: points");
+    assert_eq!(a.cells, b.cells, "{what}: cells");
+    for (kind, x, y) in [
+        ("point", &a.point_data.arrays, &b.point_data.arrays),
+        ("cell", &a.cell_data.arrays, &b.cell_data.arrays),
+        ("field", &a.field_data, &b.field_data),
+    ] {
+        let names = |v: &[crate::DataArray]| v.iter().map(|a| a.name.clone()).collect::<Vec<_>>();
+        assert_eq!(names(x), names(y), "{what}: {kind} arrays");
+        for (ax, ay) in x.iter().zip(y) {
+            assert!(ax.bit_eq(ay), "{what}: {kind} array {}", ax.name);
+        }
+    }
+}
+
+const NC4_PAIRS: [(&str, &str); 10] = [
+    ("nc4/hand.exo", "hand.exo"),
+    ("nc4/hand.exo", "hand5.exo"),
+    ("nc4/mixed.exo", "mixed.exo"),
+    ("nc4/quadratic.exo", "quadratic.exo"),
+    ("nc4/steps.exo", "steps.exo"),
+    ("nc4/steps_nc7.exo", "steps.exo"),
+    ("nc4/tets.exo", "tets.exo"),
+    ("nc4/tets_nc7.exo", "tets.exo"),
+    ("nc4/meshio.exo", "nc4/meshio_cdf5.exo"),
+    ("nc4/meshio_strings.exo", "nc4/meshio_cdf5.exo"),
+];
+
+#[test]
+fn netcdf4_reads_as_its_classic_copy() {
+    for (nc4, classic) in NC4_PAIRS {
+        let (a, b) = (nc4_fixture(nc4), nc4_fixture(classic));
+        assert!(super::nc4::is_hdf5(&a) && !super::nc4::is_hdf5(&b));
+        let steps = super::read::times_of(&b, Path::new(classic)).unwrap();
+        let times = super::read::times_of(&a, Path::new(nc4)).unwrap();
+        assert_eq!(
+            times.iter().map(|t| t.to_bits()).collect::<Vec<_>>(),
+            steps.iter().map(|t| t.to_bits()).collect::<Vec<_>>(),
+            "{nc4}: times"
+        );
+        for k in 0..steps.len().max(1) {
+            let what = format!("{nc4}@{k}");
+            let sel = Selector::Index(k);
+            let (ga, gb) = (read_at(&a, sel), read_at(&b, sel));
+            let (ga, gb) = (ga.unwrap_or_else(|e| panic!("{e}")), gb.unwrap());
+            assert_same_grid(&what, &ga, &gb);
+        }
+    }
+    // int64 connectivity and node sets, NC_STRING names: as meshio writes them.
+    let g = read(&nc4_fixture("nc4/meshio_strings.exo"));
+    assert_eq!(g.cells.types, vec![ct::TETRA, ct::TETRA, ct::HEXAHEDRON]);
+    assert_eq!(f64s(&g, false, "nodeset:bottom").iter().sum::<f64>(), 7.0);
+    assert_eq!(f64s(&g, false, "temperature")[6], 30.0);
+    assert_eq!(f64s(&g, true, names::OBJECT_ID), vec![0.0, 0.0, 1.0]);
+}
+
+#[test]
+fn netcdf4_behind_a_user_block() {
+    let b = nc4_fixture("nc4/tets_nc7.exo");
+    let want = read(&b);
+    for n in [512, 1024, 2048] {
+        let mut u = vec![0u8; n];
+        u.extend_from_slice(&b);
+        assert!(super::nc4::is_hdf5(&u));
+        match read_at(&u, Selector::Index(0)) {
+            Ok(g) => assert_same_grid(&format!("user block {n}"), &g, &want),
+            Err(e) => panic!("user block {n}: {e}"),
+        }
+    }
+}
+
+#[test]
+fn netcdf4_truncations_and_flipped_bytes_give_errors_not_panics() {
+    for (name, cut, flip) in [("nc4/meshio.exo", 5, 3), ("nc4/tets.exo", 7, 11)] {
+        let b = nc4_fixture(name);
+        cut_and_flip(&b, cut, flip);
+    }
+}
+
+/// Reads `b` cut at every `cut`-th byte, and with every `flip`-th byte flipped.
+fn cut_and_flip(b: &[u8], cut: usize, flip: usize) {
+    let good = read(b);
+    for n in (0..b.len()).step_by(cut) {
+        let e = read_at(&b[..n], Selector::Index(0))
+            .map(|_| ())
+            .unwrap_err();
+        assert!(e.to_string().starts_with("t.exo: "), "cut at {n}: {e}");
+    }
+    for i in (0..b.len()).step_by(flip) {
+        for x in [0xFF, 0x01] {
+            let mut c = b.to_vec();
+            c[i] ^= x;
+            match read_at(&c, Selector::Last) {
+                Err(e) => assert!(e.to_string().starts_with("t.exo: "), "byte {i}: {e}"),
+                // A flip in unused space, or in a value: still a grid of the same shape.
+                Ok(g) => assert_eq!(g.num_points(), good.num_points(), "byte {i}"),
             }
         }
     }
