@@ -355,8 +355,13 @@ fn every_fixture_tetrahedralizes() {
 
 /// Fixtures whose 20-node hexahedron is tangled as read: VTK 9.1's Exodus writer stores VTK's
 /// node order where Exodus's is due, so its reader (and tetkit's) puts the vertical edges' mid
-/// nodes in the top edges' places (scripts/make_exodus_fixtures.py keeps VTK's round trip).
-const TANGLED: [&str; 2] = ["exodus/quadratic.exo", "exodus/quadratic_vtk.vtu"];
+/// nodes in the top edges' places (scripts/make_exodus_fixtures.py keeps VTK's round trip;
+/// nc4/ holds its NetCDF-4 copy).
+const TANGLED: [&str; 3] = [
+    "exodus/quadratic.exo",
+    "exodus/nc4/quadratic.exo",
+    "exodus/quadratic_vtk.vtu",
+];
 
 /// The second-order cells that are completed or cut into linear pieces first.
 const SECOND_ORDER: [u8; 6] = [
