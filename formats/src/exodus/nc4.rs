@@ -258,12 +258,15 @@ impl Source for Nc4<'_> {
             .and_then(|a| a.1.clone())
     }
     fn values<T: FromNc>(&self, var: usize, rec: u64) -> Result<Vec<T>> {
-        let Some(ty) = self.vars[var].ty.filter(|&t| t != NcType::Char) else {
-            return Err(self.err_var(var, "holds text where numbers are expected"));
+        // NC_STRING (no classic type) and char arrays alike.
+        let text = || Err(self.err_var(var, "holds text where numbers are expected"));
+        let Some(ty) = self.vars[var].ty else {
+            return text();
         };
         match ty {
+            NcType::Char => text(),
             NcType::Byte => self.read::<i8, T>(var, rec, ty),
-            NcType::UByte | NcType::Char => self.read::<u8, T>(var, rec, ty),
+            NcType::UByte => self.read::<u8, T>(var, rec, ty),
             NcType::Short => self.read::<i16, T>(var, rec, ty),
             NcType::UShort => self.read::<u16, T>(var, rec, ty),
             NcType::Int => self.read::<i32, T>(var, rec, ty),

@@ -840,7 +840,7 @@ mod tests {
     }
 
     #[test]
-    fn quadratic_cells_pieces_fill_the_cell() {
+    fn quadratic_cells_pieces_fill_the_cell() -> Result<(), SplitError> {
         use formats::cell_type as ct;
         // Straight cells under an affine map of determinant 8.984375 (so nothing is axis-aligned):
         // mid-edge nodes at the edges' midpoints, face centres at the faces' centroids.
@@ -944,7 +944,7 @@ mod tests {
                 let mut total = 0.0;
                 for (local, faces) in &subs {
                     let ids: Vec<i64> = local.iter().map(|&l| id(l)).collect();
-                    let s = split_table(&ids, faces, &pos, &no_round).unwrap();
+                    let s = split_table(&ids, faces, &pos, &no_round)?;
                     assert!(
                         !s.inverted && s.centre.is_none(),
                         "type {t}: piece {local:?}"
@@ -954,6 +954,7 @@ mod tests {
                 assert!((total - det * size).abs() < 1e-13, "type {t}: {total}");
             }
         }
+        Ok(())
     }
 
     #[test]

@@ -359,13 +359,18 @@ mod tests {
                 1,
                 ArrayData::Int32((0..n).rev().collect()),
             ));
-            let c = complete(&g).unwrap();
+            let Some(c) = complete(&g) else {
+                panic!("type {t}: nothing completed");
+            };
             assert_eq!(c.cells.types, vec![t]);
             let ids = c.cells.cell(0);
             assert_eq!(ids.len(), nodes.len() + added.len());
             let p = c.points_f64();
-            let fd = c.point_data.get("f").unwrap().data.to_f64_vec();
-            let ArrayData::Int32(label) = &c.point_data.get("label").unwrap().data else {
+            let (Some(f), Some(label)) = (c.point_data.get("f"), c.point_data.get("label")) else {
+                panic!("type {t}: point data lost");
+            };
+            let fd = f.data.to_f64_vec();
+            let ArrayData::Int32(label) = &label.data else {
                 panic!("label type");
             };
             for (a, &id) in added.iter().zip(&ids[nodes.len()..]) {
@@ -392,7 +397,7 @@ mod tests {
                     fd[id as usize]
                 );
                 // The label of the smallest-id corner (labels count down from n - 1).
-                let min = *cs.iter().min().unwrap() as i32;
+                let min = cs.iter().copied().fold(usize::MAX, usize::min) as i32;
                 assert_eq!(label[id as usize], n - 1 - min);
             }
         }
@@ -431,7 +436,9 @@ mod tests {
         );
         let shared = |cells: &[(u8, Vec<[f64; 3]>)], added: usize| {
             let g = grid(cells);
-            let c = complete(&g).unwrap();
+            let Some(c) = complete(&g) else {
+                panic!("nothing completed");
+            };
             assert_eq!(c.num_points(), g.num_points() + added - 1);
             let new = |i: usize| -> std::collections::HashSet<i64> {
                 c.cells.cell(i)[g.cells.cell(i).len()..]
@@ -473,7 +480,9 @@ mod tests {
             (ct::BIQUADRATIC_QUADRATIC_WEDGE, wedge18),
             (hex20, hex(0.0)),
         ]);
-        let c = complete(&g).unwrap();
+        let Some(c) = complete(&g) else {
+            panic!("nothing completed");
+        };
         assert_eq!(c.num_points(), g.num_points() + 6);
         assert!(c.cells.cell(1)[20..].contains(&c.cells.cell(0)[15]));
     }

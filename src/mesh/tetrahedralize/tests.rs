@@ -482,7 +482,7 @@ fn collapsed_hexahedra_are_split_like_the_cell_they_stand_for() {
 }
 
 #[test]
-fn second_order_wedges_split_inverted_once_tangled_refused() {
+fn second_order_wedges_split_inverted_once_tangled_refused() -> anyhow::Result<()> {
     // VTK's positive wedge with its mid-edge nodes and quad-face centres (18 nodes); `lift` moves
     // the middle layer (vertical edges' mid nodes, face centres) to that height.
     let wedge = |flip: bool, lift: f64| -> Vec<[f64; 3]> {
@@ -536,7 +536,7 @@ fn second_order_wedges_split_inverted_once_tangled_refused() {
     ] {
         for flip in [false, true] {
             let g = grid_of(wedge(flip, 0.5), &[(t, &ids[..n])]);
-            let (out, r) = tetrahedralize(&g, false).unwrap();
+            let (out, r) = tetrahedralize(&g, false)?;
             assert_eq!(r.inverted, flip as usize, "type {t}");
             assert_eq!(r.split, vec![(t, 1)]);
             let p = out.points_f64();
@@ -569,7 +569,7 @@ fn second_order_wedges_split_inverted_once_tangled_refused() {
         nodes[..12].to_vec(),
         &[(ct::QUADRATIC_LINEAR_WEDGE, &ids[..12])],
     );
-    let (out, r) = tetrahedralize(&g, false).unwrap();
+    let (out, r) = tetrahedralize(&g, false)?;
     assert_eq!(r.split, vec![(ct::QUADRATIC_LINEAR_WEDGE, 1)]);
     assert_eq!((out.num_cells(), out.num_points()), (12, 12));
     let p = out.points_f64();
@@ -585,4 +585,5 @@ fn second_order_wedges_split_inverted_once_tangled_refused() {
         })
         .sum();
     assert!((v - 0.5).abs() < 1e-15, "{v}");
+    Ok(())
 }
