@@ -163,8 +163,14 @@ pub fn complete(grid: &Grid) -> Option<Grid> {
         cells.push(t, &full);
     }
     cells.polyhedron_faces = grid.cells.polyhedron_faces.clone();
-    let mut out = grid.clone();
-    out.cells = cells;
+    // Field by field: cloning the whole grid would copy its cells only to drop them.
+    let mut out = Grid {
+        points: grid.points.clone(),
+        cells,
+        point_data: grid.point_data.clone(),
+        cell_data: grid.cell_data.clone(),
+        field_data: grid.field_data.clone(),
+    };
     append(&mut out.points.data, 3, &new);
     append_point_data(&mut out.point_data, &new);
     Some(out)
