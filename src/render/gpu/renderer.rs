@@ -420,6 +420,7 @@ impl GpuRenderer {
             class: [c[0], c[1], c[2], c[3], c[4]].map(u64::from),
             clipped: c[5] as u64,
             fragments: 0,
+            hidden: 0,
         };
         Ok((
             img,

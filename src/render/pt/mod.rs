@@ -76,6 +76,9 @@ pub struct PtStats {
     /// per-pixel clipping path instead of the rasterizer.
     pub clipped: u64,
     pub fragments: u64,
+    /// Tets not set up because every pixel they could cover was already opaque (the tile
+    /// schedule's early termination; 0 elsewhere).
+    pub hidden: u64,
 }
 
 impl PtStats {
@@ -85,6 +88,7 @@ impl PtStats {
         }
         self.clipped += o.clipped;
         self.fragments += o.fragments;
+        self.hidden += o.hidden;
     }
 }
 

@@ -250,6 +250,21 @@ pub(crate) fn setup_tet(
     stats: &mut PtStats,
     out: &mut Prepared,
 ) -> Option<PixelBox> {
+    setup_tet_unless(view, pv, s, stats, out, |_| false)
+}
+
+/// [`setup_tet`], but a tet whose pixel bounds `hidden` calls hidden (every pixel there already
+/// opaque) is counted in [`PtStats::hidden`] and not set up: its class is still counted, so the
+/// counts do not depend on how soon pixels turn opaque.
+#[inline(always)]
+pub(crate) fn setup_tet_unless(
+    view: &View,
+    pv: &[&Projected; 4],
+    s: [f64; 4],
+    stats: &mut PtStats,
+    out: &mut Prepared,
+    hidden: impl Fn(PixelBox) -> bool,
+) -> Option<PixelBox> {
     let fp = pv.map(|p| (p.fx, p.fy));
     let d = face_areas(&fp);
     let class = classify(&d);
@@ -260,6 +275,10 @@ pub(crate) fn setup_tet(
     // The silhouette holds all four vertices, so its box is theirs: taken from the vertices,
     // which are at hand, before the silhouette is built.
     let bounds = box_pixels(fp, view.width as i64, view.height as i64)?;
+    if hidden(bounds) {
+        stats.hidden += 1;
+        return None;
+    }
     // Silhouette, positively oriented.
     let (mut pos, mut np) = ([0usize; 4], 0);
     let (mut neg, mut nn) = ([0usize; 4], 0);

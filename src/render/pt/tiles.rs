@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use super::clip::{clip_box, ClipSetup};
-use super::setup::{setup_tet, Prepared, TetSetup};
+use super::setup::{setup_tet, setup_tet_unless, Prepared, TetSetup};
 use super::shade::Shader;
 use super::{huge_pages, prefetch, PixelBox, Projected, PtStats, View, TILE};
 use crate::render::field::Field;
@@ -76,9 +76,10 @@ impl Frame<'_> {
     }
 
     /// [`Frame::prepare`] straight into `run`: pushes tet `t`'s record (and its clipping
-    /// set-up) and returns its pixel box, or `None` with nothing pushed when it draws nothing.
+    /// set-up) and returns its pixel box, or `None` with nothing pushed when it draws nothing,
+    /// or when every pixel it could cover is already `opaque`.
     #[inline(always)]
-    fn prepare_into(&self, t: u32, run: &mut Run) -> Option<PixelBox> {
+    fn prepare_into(&self, t: u32, run: &mut Run, opaque: &Opaque) -> Option<PixelBox> {
         let (pv, s) = self.vertices(t);
         if pv.iter().any(|p| !p.ok) {
             run.stats.clipped += 1;
@@ -90,7 +91,14 @@ impl Frame<'_> {
         // A placeholder the set-up overwrites in place (`recs` has room for the whole run).
         run.recs.push(Prepared::clipped(0));
         let n = run.recs.len();
-        let b = setup_tet(self.view, &pv, s, &mut run.stats, &mut run.recs[n - 1]);
+        let b = setup_tet_unless(
+            self.view,
+            &pv,
+            s,
+            &mut run.stats,
+            &mut run.recs[n - 1],
+            |b| opaque.hides(b),
+        );
         if b.is_none() {
             run.recs.pop();
         }
@@ -238,14 +246,52 @@ impl Run {
     }
 }
 
+/// Side in pixels of the blocks whose opacity decides which tets are hidden: a tet is set up
+/// unless every block under its pixel box is opaque. Tets are a few pixels across, so blocks
+/// much smaller than a tile find far more of them hidden where a tile is only partly opaque
+/// (a silhouette's edge, an opaque region's border).
+const BLOCK: usize = 8;
+/// Blocks a tile row.
+const TILE_BLOCKS: usize = TILE / BLOCK;
+// A tile is whole blocks, one bit each in a `u64`.
+const _: () = assert!(TILE.is_multiple_of(BLOCK) && TILE_BLOCKS * TILE_BLOCKS <= 64);
+
+/// Which [`BLOCK`]-pixel blocks of the image have every pixel opaque, as of the last wave.
+struct Opaque {
+    /// Per block, row by row (empty while no block is opaque).
+    done: Vec<bool>,
+    /// Blocks a row.
+    nbx: usize,
+}
+
+impl Opaque {
+    /// Whether every block under pixel box `b` is opaque.
+    #[inline(always)]
+    fn hides(&self, (x0, y0, x1, y1): PixelBox) -> bool {
+        // A frame's first waves have nothing opaque: one test instead of the box's blocks.
+        if self.done.is_empty() {
+            return false;
+        }
+        for by in (y0 as usize / BLOCK)..=(y1 as usize / BLOCK) {
+            for bx in (x0 as usize / BLOCK)..=(x1 as usize / BLOCK) {
+                if !self.done.get(by * self.nbx + bx).copied().unwrap_or(false) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+}
+
 /// How many entries ahead the loops below ask for the memory they will read: far enough for a
 /// miss to arrive, near enough that the line is not evicted first (2 to 8 measured alike).
 const AHEAD: usize = 4;
 
 /// Sets up a run of the order and bins it per tile (`ntx` tiles a row) into `run`, replacing
-/// what it held but keeping its buffers.
+/// what it held but keeping its buffers. Tets whose every pixel is already `opaque` are left out
+/// (what they would draw is hidden).
 #[inline(always)]
-fn bin(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
+fn bin(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
     run.recs.clear();
     run.tets.clear();
     run.clipped.clear();
@@ -268,7 +314,7 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
                 }
             }
         }
-        let Some((x0, y0, x1, y1)) = frame.prepare_into(t, run) else {
+        let Some((x0, y0, x1, y1)) = frame.prepare_into(t, run, opaque) else {
             continue;
         };
         let k = run.tets.len() as u32;
@@ -284,18 +330,18 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
 /// [`bin`] compiled for AVX2 (bit for bit the same, as [`draw_tile_avx2`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
-    bin(frame, chunk, ntx, run)
+unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
+    bin(frame, chunk, ntx, opaque, run)
 }
 
 /// [`bin`] with the widest instruction set the CPU has.
-fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, run: &mut Run) {
+fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { bin_avx2(frame, chunk, ntx, run) };
+        return unsafe { bin_avx2(frame, chunk, ntx, opaque, run) };
     }
-    bin(frame, chunk, ntx, run)
+    bin(frame, chunk, ntx, opaque, run)
 }
 
 /// A tile being drawn across the waves of a frame.
@@ -308,6 +354,33 @@ struct TileAcc<S> {
     state: S,
     /// Every pixel opaque: later tets are not drawn.
     done: bool,
+    /// Bit `by * TILE_BLOCKS + bx` set when every pixel of that block of the tile is opaque.
+    blocks: u64,
+    /// `opaque` when `blocks` was last found.
+    scanned: usize,
+}
+
+impl<S> TileAcc<S> {
+    /// Finds which of the tile's blocks are opaque, when pixels turned opaque since last time.
+    fn scan_blocks(&mut self) {
+        if self.opaque == self.scanned {
+            return;
+        }
+        self.scanned = self.opaque;
+        let (x0, _, x1, _) = self.tile;
+        let tw = (x1 - x0 + 1) as usize;
+        // Blocks past the image's edge have no pixel, so all theirs are opaque: the tests
+        // never ask for them.
+        let mut clear = 0u64;
+        for (r, row) in self.buf.chunks(tw).enumerate() {
+            for (c, p) in row.iter().enumerate() {
+                if !(p[3] >= super::OPAQUE) {
+                    clear |= 1 << ((r / BLOCK) * TILE_BLOCKS + c / BLOCK);
+                }
+            }
+        }
+        self.blocks = !clear;
+    }
 }
 
 /// Draws the lists of tile `ti` in the binned runs, in order, onto what the tile holds.
@@ -393,6 +466,17 @@ pub(crate) fn render_tiles<D: TileDraw>(
     order: &[u32],
     d: &D,
 ) -> (Image, PtStats, f64, Vec<D::State>) {
+    render_tiles_hiding(frame, order, d, true)
+}
+
+/// [`render_tiles`], leaving out the tets hidden behind opaque blocks only when `hide` (the
+/// same image either way: the tests compare both).
+fn render_tiles_hiding<D: TileDraw>(
+    frame: &Frame,
+    order: &[u32],
+    d: &D,
+    hide: bool,
+) -> (Image, PtStats, f64, Vec<D::State>) {
     let (w, h) = (frame.view.width as usize, frame.view.height as usize);
     let (ntx, nty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let ntiles = ntx * nty;
@@ -408,6 +492,8 @@ pub(crate) fn render_tiles<D: TileDraw>(
                 opaque: 0,
                 state: D::State::default(),
                 done: false,
+                blocks: 0,
+                scanned: 0,
             }
         })
         .collect();
@@ -418,13 +504,19 @@ pub(crate) fn render_tiles<D: TileDraw>(
         .collect();
     let mut stats = PtStats::default();
     let mut bin_s = 0.0;
+    let (nbx, nby) = (ntx * TILE_BLOCKS, nty * TILE_BLOCKS);
+    // Blocks opaque before this wave: what they would draw is hidden.
+    let mut opaque = Opaque {
+        done: Vec::new(),
+        nbx,
+    };
     for wave in order.chunks(CHUNK * WAVE) {
         let t0 = std::time::Instant::now();
         let used = wave.len().div_ceil(CHUNK);
         runs[..used]
             .par_iter_mut()
             .zip(wave.par_chunks(CHUNK))
-            .for_each(|(run, chunk)| bin_best(frame, chunk, ntx, run));
+            .for_each(|(run, chunk)| bin_best(frame, chunk, ntx, &opaque, run));
         for run in &runs[..used] {
             stats.add(&run.stats);
         }
@@ -434,7 +526,23 @@ pub(crate) fn render_tiles<D: TileDraw>(
             .par_iter_mut()
             .enumerate()
             .filter(|(ti, acc)| !acc.done && runs.iter().any(|r| !r.lists[*ti].is_empty()))
-            .for_each(|(ti, acc)| draw_tile_best(d, runs, ti, acc));
+            .for_each(|(ti, acc)| {
+                draw_tile_best(d, runs, ti, acc);
+                acc.scan_blocks();
+            });
+        if hide && tiles.iter().any(|acc| acc.blocks != 0) {
+            opaque.done.resize(nbx * nby, false);
+            for (ti, acc) in tiles.iter().enumerate() {
+                let (tx, ty) = (ti % ntx, ti / ntx);
+                for k in 0..TILE_BLOCKS * TILE_BLOCKS {
+                    let (bx, by) = (
+                        tx * TILE_BLOCKS + k % TILE_BLOCKS,
+                        ty * TILE_BLOCKS + k / TILE_BLOCKS,
+                    );
+                    opaque.done[by * nbx + bx] = acc.blocks >> k & 1 != 0;
+                }
+            }
+        }
     }
     let mut img = Image::new(frame.view.width, frame.view.height);
     let mut states = Vec::with_capacity(ntiles);
@@ -450,4 +558,144 @@ pub(crate) fn render_tiles<D: TileDraw>(
         }
     }
     (img, stats, bin_s, states)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::mesh::generate::structured_grid;
+    use crate::render::integrate::PreintTable;
+    use crate::render::pt::{project_points, stretch_map};
+    use crate::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
+    use crate::sort::{Direction, Method, Sorter};
+
+    #[test]
+    fn tets_behind_opaque_blocks_are_skipped_without_changing_the_image() -> anyhow::Result<()> {
+        // Three waves of a grid seen at an angle, nearly opaque within a few cells where x > 1/2
+        // and clear elsewhere: from the second wave on, the tets behind the opaque half are
+        // hidden, and a hidden tet drawing into the clear half would show.
+        let n = 28;
+        let m = structured_grid([n; 3], [0.0; 3], [1.0; 3]);
+        assert!(m.tets.len() > 2 * CHUNK * WAVE, "{} tets", m.tets.len());
+        let s: Vec<f64> = m.points.iter().map(|p| p[0]).collect();
+        let tf = TransferFunction::build(
+            &named_colormap("viridis")?,
+            Some(&OpacitySpec::parse("0:0.01,0.45:0.01,0.55:1,1:1")?),
+            [0.0, 1.0],
+            0.02,
+            9,
+        )?;
+        let shader = Shader::Pre(PreintTable::build(&tf, 65, 17, 0.1));
+        let mut cam = Camera::default();
+        cam.reset_to(&m.bounds());
+        cam.azimuth(30.0);
+        cam.elevation(20.0);
+        let view = View::new(&cam, 96, 80);
+        let order = Sorter::new(&m, None)?
+            .order(&cam, Method::Mpvo, Direction::FrontToBack)
+            .order;
+        let field = Field::Point(s);
+        let proj = project_points(&view, &m.points);
+        let stretch = stretch_map(&view);
+        let frame = Frame {
+            view: &view,
+            tets: &m.tets,
+            field: &field,
+            proj: &proj,
+            stretch: &stretch,
+        };
+        let plain = PlainDraw {
+            frame: &frame,
+            shader: &shader,
+        };
+        let (a, sa, _, _) = render_tiles_hiding(&frame, &order, &plain, true);
+        let (b, sb, _, _) = render_tiles_hiding(&frame, &order, &plain, false);
+        let bits = |img: &Image| {
+            img.pixels
+                .iter()
+                .map(|p| p.map(f32::to_bits))
+                .collect::<Vec<_>>()
+        };
+        assert!(bits(&a) == bits(&b), "the skipped tets changed the image");
+        assert_eq!(sb.hidden, 0);
+        // Every tet's class is counted, hidden or not; fragments are the drawn ones.
+        assert_eq!((sa.class, sa.fragments), (sb.class, sb.fragments));
+        let later = m.tets.len() - CHUNK * WAVE;
+        assert!(
+            sa.hidden as usize > later / 4,
+            "only {} of the {later} tets after the first wave hidden",
+            sa.hidden
+        );
+        // Some pixels are not opaque (the silhouette's edge), so not everything is hidden.
+        assert!(a
+            .pixels
+            .iter()
+            .any(|p| p[3] > 0.0 && p[3] < super::super::OPAQUE));
+        Ok(())
+    }
+
+    #[test]
+    fn a_block_is_opaque_only_when_all_its_pixels_are() {
+        // A tile at the image's right edge, 20 pixels wide: blocks 0-2 of each block row
+        // hold pixels (the third 4 wide), block 3 none.
+        let (w, h) = (20usize, TILE);
+        let mut acc = TileAcc {
+            tile: (32, 0, 32 + w as i64 - 1, h as i64 - 1),
+            buf: vec![[0.0f32; 4]; w * h],
+            frags: 0,
+            opaque: 0,
+            state: (),
+            done: false,
+            blocks: 0,
+            scanned: 0,
+        };
+        let opaque_at = |acc: &mut TileAcc<()>, x: usize, y: usize| {
+            acc.buf[y * w + x] = [1.0; 4];
+            acc.opaque += 1;
+        };
+        // Block (0, 0) whole; block (2, 1) whole, its 4 columns; block (1, 2) all but one pixel.
+        for y in 0..BLOCK {
+            for x in 0..BLOCK {
+                opaque_at(&mut acc, x, y);
+                if !(x == 7 && y == 7) {
+                    opaque_at(&mut acc, BLOCK + x, 2 * BLOCK + y);
+                }
+            }
+            for x in 16..20 {
+                opaque_at(&mut acc, x, BLOCK + y);
+            }
+        }
+        acc.scan_blocks();
+        let bit = |blocks: u64, bx: usize, by: usize| blocks >> (by * TILE_BLOCKS + bx) & 1 != 0;
+        let b = acc.blocks;
+        assert!(bit(b, 0, 0) && bit(b, 2, 1));
+        assert!(!bit(b, 1, 2), "one clear pixel keeps a block clear");
+        assert!(!bit(b, 1, 0) && !bit(b, 0, 1) && !bit(b, 2, 0));
+        // Unchanged opaque count: not scanned again.
+        acc.buf[0] = [0.0; 4];
+        acc.scan_blocks();
+        assert!(bit(acc.blocks, 0, 0));
+
+        // A box hides only when every block under it is opaque.
+        let nbx = 4;
+        let mut done = vec![false; nbx * 4];
+        for (bx, by) in [(0, 0), (1, 0), (1, 1)] {
+            done[by * nbx + bx] = true;
+        }
+        let o = Opaque { done, nbx };
+        assert!(o.hides((0, 0, 15, 7)), "two opaque blocks");
+        assert!(o.hides((9, 9, 15, 15)), "inside one");
+        assert!(!o.hides((0, 0, 16, 7)), "one column into a clear block");
+        assert!(o.hides((8, 7, 15, 8)), "(1, 0) and (1, 1)");
+        assert!(
+            !o.hides((7, 7, 15, 8)),
+            "a column into (0, 1), which is clear"
+        );
+        let none = Opaque {
+            done: Vec::new(),
+            nbx,
+        };
+        assert!(!none.hides((0, 0, 0, 0)));
+    }
 }
