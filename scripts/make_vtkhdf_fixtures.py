@@ -15,6 +15,8 @@ Good files (all read by VTK 9.1's vtkHDFReader; see check_vtk below):
   float32.hdf        float32 points, uint16 point array, int8 cell array
   mixed.vtkhdf       a hexahedron, two wedges, a pyramid and a tet; uint64 cell data
   gzip.vtkhdf        tets.vtkhdf's content in deflate-compressed chunked datasets
+  version2.vtkhdf    Version [2, 0], no Steps (VTK 9.1 warns it supports 1.0, and reads it)
+  userblock.vtkhdf   the HDF5 file behind a 512-byte user block
 Bad files (tetkit refuses each, naming the problem):
   bad_type.vtkhdf          Type "ImageData"
   bad_connectivity.vtkhdf  a connectivity id past the piece's points
@@ -63,9 +65,10 @@ def piece_arrays(pts, ncells, shift=0.0):
     return {"temperature": temperature, "velocity": velocity}, {"material": material, "tensor": tensor}, n
 
 
-def write(path, pieces, field=None, dtype_type="UnstructuredGrid", version=(1, 0), gzip=False):
+def write(path, pieces, field=None, dtype_type="UnstructuredGrid", version=(1, 0), gzip=False,
+          userblock=0):
     """pieces: list of (points, types, offsets, connectivity, point_data, cell_data)."""
-    with h5py.File(path, "w") as f:
+    with h5py.File(path, "w", userblock_size=userblock) as f:
         root = f.create_group("VTKHDF")
         root.attrs["Version"] = np.array(version, dtype=np.int64)
         # Fixed-length ASCII, as VTK writes it (VTK 9.1's reader reads no variable-length string).
@@ -173,6 +176,11 @@ def main():
     good.append("mixed.vtkhdf")
     write(o("gzip.vtkhdf"), [tets_piece()], FIELD, gzip=True)
     good.append("gzip.vtkhdf")
+    # VTK 9.1 reads version 2.0 (without Steps) with a warning that it supports 1.0.
+    write(o("version2.vtkhdf"), [tets_piece(dims=(2, 2, 2))], FIELD, version=(2, 0))
+    good.append("version2.vtkhdf")
+    write(o("userblock.vtkhdf"), [tets_piece(dims=(2, 2, 2))], FIELD, userblock=512)
+    good.append("userblock.vtkhdf")
     for name in good:
         check_vtk(o(name))
 

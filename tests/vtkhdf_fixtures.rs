@@ -11,12 +11,14 @@ use tetkit::formats::{self, DataArray, Grid};
 
 type TestResult = Result<(), Box<dyn std::error::Error>>;
 
-const GOOD: [&str; 5] = [
+const GOOD: [&str; 7] = [
     "tets.vtkhdf",
     "two_pieces.vtkhdf",
     "float32.hdf",
     "mixed.vtkhdf",
     "gzip.vtkhdf",
+    "version2.vtkhdf",
+    "userblock.vtkhdf",
 ];
 
 fn vtkhdf(name: &str) -> PathBuf {
