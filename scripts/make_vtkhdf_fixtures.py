@@ -27,8 +27,9 @@ Bad files (tetkit refuses each, naming the problem):
   polyhedron.vtkhdf        a VTK_POLYHEDRON cell (type 42), not read
   temporal.vtkhdf          a Steps group (version 2 temporal data), not read
   truncated.vtkhdf         tets.vtkhdf cut to its first 3000 bytes
-string_field.vtkhdf (a fixed-length string dataset in FieldData) tetkit reads, the strings kept;
-it is left out of the VTK comparison.
+string_field.vtkhdf (fixed- and variable-length string datasets in FieldData, a variable-length
+Type, an int32 Version, PointData's attribute Scalars) tetkit reads, the strings kept; it is left
+out of the VTK comparison.
 """
 import os
 
@@ -213,6 +214,13 @@ def main():
     write(o("string_field.vtkhdf"), [small])
     with h5py.File(o("string_field.vtkhdf"), "a") as f:
         f["VTKHDF/FieldData"].create_dataset("names", data=np.array([b"alpha", b"beta"], dtype="S8"))
+        f["VTKHDF/FieldData"].create_dataset("vnames", data=["gamma", "d\u00e9lta"],
+                                             dtype=h5py.string_dtype())
+        # What h5py writes by default: a variable-length UTF-8 Type, an int32 Version; and the
+        # active scalars named on PointData as VTK XML names them.
+        f["VTKHDF"].attrs["Type"] = "UnstructuredGrid"
+        f["VTKHDF"].attrs["Version"] = np.array([1, 0], dtype=np.int32)
+        f["VTKHDF/PointData"].attrs["Scalars"] = "temperature"
     with open(o("tets.vtkhdf"), "rb") as f:
         head = f.read(3000)
     with open(o("truncated.vtkhdf"), "wb") as f:

@@ -110,7 +110,7 @@ fn float32_points_mixed_cells_and_small_types() -> TestResult {
 }
 
 #[test]
-fn string_field_data_is_kept() -> TestResult {
+fn string_field_data_vlen_type_and_active_scalars_are_read() -> TestResult {
     let g = read("string_field.vtkhdf")?;
     let s = array(&g.field_data, "names");
     assert_eq!(
