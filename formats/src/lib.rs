@@ -1,5 +1,6 @@
 //! Readers and writers for tetrahedral and mixed unstructured meshes: VTU/PVTU, legacy VTK, TetGen,
-//! Medit; readers for Gmsh's .msh, for Exodus II (classic NetCDF), for the VTK collections (.vtm,
+//! Medit; readers for Gmsh's .msh, for Exodus II (classic NetCDF and NetCDF-4), for VTKHDF
+//! UnstructuredGrid (.vtkhdf, .hdf), for the VTK collections (.vtm,
 //! .pvd) that name meshes, for VTK's structured data (.vti, .vtr, .vts and their legacy forms, as
 //! voxels and hexahedra) and for polydata (.vtp).
 //!
@@ -18,6 +19,7 @@ pub mod medit;
 pub mod msh;
 pub(crate) mod structured;
 pub mod tetgen;
+pub mod vtkhdf;
 pub mod vtu;
 
 pub use collection::{pvd, vtm};
@@ -66,10 +68,12 @@ pub enum Format {
     Msh,
     /// Exodus II, `.exo`, `.e`, `.ex2`, `.exii`, `.g`, `.gen` in classic NetCDF (read only).
     Exodus,
+    /// VTKHDF UnstructuredGrid, `.vtkhdf`, `.hdf` (HDF5; read only).
+    VtkHdf,
 }
 
 /// The extensions [`Format::from_path`] knows, for messages.
-const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .msh, .exo, .vtm, .pvd, .vti, .vtr, .vts, .pvti, .pvtr, .pvts or .vtp";
+const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .msh, .exo, .vtkhdf, .hdf, .vtm, .pvd, .vti, .vtr, .vts, .pvti, .pvtr, .pvts or .vtp";
 
 impl Format {
     /// The format a path's extension names.
@@ -97,6 +101,7 @@ impl Format {
             .with_file(path)),
             "msh" => Ok(Format::Msh),
             e if exodus::EXTENSIONS.contains(&e) => Ok(Format::Exodus),
+            e if vtkhdf::EXTENSIONS.contains(&e) => Ok(Format::VtkHdf),
             "" => Err(
                 FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
             ),
@@ -123,6 +128,7 @@ impl Format {
             "medit" | "mesh" => Some(Format::Medit),
             "msh" | "gmsh" => Some(Format::Msh),
             "exodus" | "exo" => Some(Format::Exodus),
+            "vtkhdf" | "hdf" => Some(Format::VtkHdf),
             _ => None,
         }
     }
@@ -139,6 +145,7 @@ impl Format {
                 | Format::Vtp
                 | Format::Msh
                 | Format::Exodus
+                | Format::VtkHdf
                 | Format::PStructured
         )
     }
@@ -159,6 +166,7 @@ impl Format {
             Format::Medit => "Medit",
             Format::Msh => "Gmsh MSH",
             Format::Exodus => "Exodus II",
+            Format::VtkHdf => "VTKHDF",
         }
     }
 }
@@ -367,6 +375,11 @@ pub fn read(path: &Path) -> Result<Grid> {
             check_exodus_sniff(path, &bytes)?;
             exodus::read_from(&bytes, path, pvd::Selector::Index(0))?
         }
+        Format::VtkHdf => {
+            let bytes = read_file(path)?;
+            check_vtkhdf_sniff(path, &bytes)?;
+            vtkhdf::read_from(&bytes, path)?
+        }
     };
     checked(grid, path)
 }
@@ -384,6 +397,20 @@ fn check_exodus_sniff(path: &Path, bytes: &[u8]) -> Result<()> {
     match sniff(bytes) {
         None => Ok(()),
         Some(_) => check_sniff(path, Format::Exodus, bytes),
+    }
+}
+
+/// A VTKHDF file is HDF5, which [`sniff`] does not name (HDF5 holds many formats): content
+/// that [`sniff`] names is refused as that format, and the VTKHDF reader says what else is wrong.
+fn check_vtkhdf_sniff(path: &Path, bytes: &[u8]) -> Result<()> {
+    match sniff(bytes) {
+        Some(found) if !exodus::is_hdf5(bytes) => Err(FormatError::whole(format!(
+            "the extension says {} but the content is {}",
+            Format::VtkHdf.name(),
+            found.name()
+        ))
+        .with_file(path)),
+        _ => Ok(()),
     }
 }
 
@@ -426,6 +453,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
         Format::Medit => medit::read_bytes(bytes, Path::new("<input>"))?,
         Format::Msh => msh::read_from(bytes, None)?,
         Format::Exodus => exodus::read_from(bytes, Path::new("<input>"), pvd::Selector::Index(0))?,
+        Format::VtkHdf => vtkhdf::read_from(bytes, Path::new("<input>"))?,
         Format::Pvtu | Format::TetGen | Format::Vtm | Format::Pvd | Format::PStructured => {
             return Err(FormatError::whole(format!(
                 "{} needs files beside it and cannot be read from a stream",
@@ -525,6 +553,27 @@ mod tests {
         }
         assert_eq!(Format::from_name("exodus"), Some(Format::Exodus));
         assert!(Format::Exodus.read_only());
+    }
+
+    #[test]
+    fn vtkhdf_is_named_by_its_extension_and_read_only() -> Result<()> {
+        for ext in ["vtkhdf", "HDF", "hdf"] {
+            let p = format!("a.{ext}");
+            assert_eq!(Format::from_path(Path::new(&p))?, Format::VtkHdf);
+        }
+        assert_eq!(Format::from_name("vtkhdf"), Some(Format::VtkHdf));
+        assert!(Format::VtkHdf.read_only());
+        assert_eq!(Format::VtkHdf.name(), "VTKHDF");
+        // HDF5 holds many formats: the extension decides, the content is not sniffed.
+        assert_eq!(sniff(b"\x89HDF\r\n\x1a\n"), None);
+        let e = write(
+            Path::new("out.vtkhdf"),
+            &Grid::default(),
+            &WriteOptions::default(),
+        )
+        .err();
+        assert!(e.is_some_and(|e| e.to_string().contains("does not write")));
+        Ok(())
     }
 
     #[test]

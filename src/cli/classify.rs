@@ -11,7 +11,7 @@ use crate::scene::{self, code_string, merge, ray};
 
 #[derive(Args, Debug)]
 pub struct ClassifyArgs {
-    /// Input tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts).
+    /// Input tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts).
     pub input: PathBuf,
     /// Scene file (TOML) with the bodies.
     #[arg(long)]

@@ -32,7 +32,7 @@ pub enum LegacyVersionArg {
 
 #[derive(Args, Debug)]
 pub struct ConvertArgs {
-    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts,
+    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts,
     /// FILE.pvd@STEP, FILE.exo@STEP), or - for stdin (VTU, legacy VTK, Medit, Gmsh MSH or Exodus II).
     pub input: PathBuf,
     /// Output mesh; the extension picks the format. - writes to stdout (see --to).

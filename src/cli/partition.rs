@@ -22,7 +22,7 @@ pub enum StrategyArg {
 
 #[derive(Args, Debug)]
 pub struct PartitionArgs {
-    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts); non-tet 3-D cells are
+    /// Input mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts); non-tet 3-D cells are
     /// tetrahedralized, 2-D and lower cells dropped.
     pub input: PathBuf,
     /// The split mesh (.vtu): cell data leaf_id and original_cell_id, the tree in field data.

@@ -11,7 +11,7 @@ use formats::ArrayData;
 
 #[derive(Args, Debug)]
 pub struct ProbeArgs {
-    /// Tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts), or - for stdin.
+    /// Tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts), or - for stdin.
     pub input: PathBuf,
     /// Points: `x,y,z` (repeat the option or separate with `;`), or a text file with one point
     /// per line (numbers separated by spaces or commas; `#` starts a comment).

@@ -145,7 +145,7 @@ fn parse_color_arg(s: &str) -> std::result::Result<[f32; 3], String> {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts), or - for stdin.
+    /// Tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts), or - for stdin.
     pub input: PathBuf,
     /// Output PNG (with --orbit N: OUT_0000.png ... numbered frames).
     #[arg(short, long)]

@@ -15,7 +15,7 @@ pub const FIELD_FRONT_TO_BACK: &str = "visibility_front_to_back";
 
 #[derive(Args, Debug)]
 pub struct SortArgs {
-    /// Input tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts); a split mesh from `tetkit partition`
+    /// Input tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts); a split mesh from `tetkit partition`
     /// carries its K-D tree in field data and its leaves in the cell array `leaf_id`.
     pub input: PathBuf,
     /// Output .vtu (or .vtk): the input with cell data visibility_order, layer and leaf_id added.

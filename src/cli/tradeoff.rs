@@ -14,7 +14,7 @@ use crate::render::prepare;
 
 #[derive(Args, Debug)]
 pub struct TradeoffArgs {
-    /// Tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtm, .pvd, .vti/.vtr/.vts), or - for stdin.
+    /// Tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts), or - for stdin.
     pub input: PathBuf,
     /// Folder for the images, the table (tradeoff.csv, tradeoff.json) and the plot (tradeoff.png).
     #[arg(short, long)]

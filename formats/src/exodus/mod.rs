@@ -3,6 +3,7 @@
 //! read through the pure-Rust `netcdf-reader` crate (nc4.rs); both answer read.rs alike.
 
 mod nc4;
+pub(crate) use nc4::is_hdf5;
 mod netcdf;
 mod read;
 mod types;

@@ -1,0 +1,647 @@
+//! VTKHDF (`.vtkhdf`, `.hdf`) UnstructuredGrid files, read through the pure-Rust `hdf5-reader` crate into a [`Grid`].
+//!
+//! The root group `VTKHDF` carries `Version` and `Type`; its datasets `NumberOfPoints`,
+//! `NumberOfCells` and `NumberOfConnectivityIds` have one entry per piece, and `Points`, `Types`,
+//! `Offsets` (cells + 1 per piece) and `Connectivity` (ids relative to the piece's points) are the
+//! pieces concatenated. The pieces are joined into one grid, each piece's ids shifted by the
+//! points before it. `PointData`, `CellData` and `FieldData` hold one dataset per array (1-D: one
+//! component; 2-D: tuples x components), each kept with its name, type and component count.
+//! Temporal files (a `Steps` group), polyhedra (type 42) and other `Type`s are refused by name.
+
+use crate::exodus::is_hdf5;
+use crate::{cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, FormatError, Grid};
+use crate::{Place, Result};
+use hdf5_reader::{ByteOrder, Datatype, Hdf5File, OpenOptions};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::Path;
+
+/// File extensions read as VTKHDF.
+pub const EXTENSIONS: [&str; 2] = ["vtkhdf", "hdf"];
+
+/// Deflate expands at most 1032-fold; a read decoding more than this many times the file's size
+/// comes from a corrupt header, and is refused before it allocates.
+const MAX_EXPANSION: u64 = 1100;
+
+/// The `Type`s the VTKHDF specification names; all but UnstructuredGrid are refused by name.
+const OTHER_TYPES: [&str; 6] = [
+    "ImageData",
+    "PolyData",
+    "HyperTreeGrid",
+    "OverlappingAMR",
+    "PartitionedDataSetCollection",
+    "MultiBlockDataSet",
+];
+
+/// Whether `path` has one of the VTKHDF [`EXTENSIONS`] (any case).
+pub fn has_extension(path: &Path) -> bool {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .is_some_and(|e| EXTENSIONS.contains(&e.as_str()))
+}
+
+/// Runs a call into `hdf5-reader`, its errors and panics made errors naming the file and `place`.
+/// The crate parses HDF5's structures from untrusted bytes; `catch_unwind` guards against a
+/// panic deep down (over `AssertUnwindSafe`: nothing the closure touches is used after a failed
+/// call).
+fn guarded<R>(
+    path: &Path,
+    place: &Place,
+    f: impl FnOnce() -> std::result::Result<R, hdf5_reader::error::Error>,
+) -> Result<R> {
+    let err = |m: String| FormatError::new(place.clone(), format!("HDF5: {m}")).with_file(path);
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(Ok(r)) => Ok(r),
+        Ok(Err(e)) => Err(err(e.to_string())),
+        Err(panic) => {
+            let m = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            Err(err(format!("the reader failed on a corrupt file ({m})")))
+        }
+    }
+}
+
+/// A dataset read whole: its shape and values in the file's own element type.
+struct Read {
+    shape: Vec<u64>,
+    data: ArrayData,
+}
+
+/// An HDF5 file's `/VTKHDF` group, and the bounds on what reading it may allocate.
+struct Reader<'a> {
+    path: &'a Path,
+    group: hdf5_reader::group::Group,
+    /// The most bytes one read may decode.
+    max_read: u64,
+}
+
+fn place_of(what: &str) -> Place {
+    Place::Other(what.to_string())
+}
+
+/// Converts little- or big-endian bytes to values of `$t`.
+macro_rules! decode {
+    ($raw:expr, $t:ty, $order:expr) => {{
+        const N: usize = std::mem::size_of::<$t>();
+        $raw.chunks_exact(N)
+            .map(|c| {
+                let mut b = [0u8; N];
+                b.copy_from_slice(c);
+                match $order {
+                    ByteOrder::LittleEndian => <$t>::from_le_bytes(b),
+                    ByteOrder::BigEndian => <$t>::from_be_bytes(b),
+                }
+            })
+            .collect::<Vec<$t>>()
+    }};
+}
+
+/// The values of `raw` as `dtype` says, or `None` for a type that is not a plain number.
+fn decode(raw: &[u8], dtype: &Datatype) -> Option<ArrayData> {
+    Some(match *dtype {
+        Datatype::FixedPoint {
+            size,
+            signed,
+            byte_order: o,
+        } => match (size, signed) {
+            (1, true) => ArrayData::Int8(raw.iter().map(|&b| b as i8).collect()),
+            (1, false) => ArrayData::UInt8(raw.to_vec()),
+            (2, true) => ArrayData::Int16(decode!(raw, i16, o)),
+            (2, false) => ArrayData::UInt16(decode!(raw, u16, o)),
+            (4, true) => ArrayData::Int32(decode!(raw, i32, o)),
+            (4, false) => ArrayData::UInt32(decode!(raw, u32, o)),
+            (8, true) => ArrayData::Int64(decode!(raw, i64, o)),
+            (8, false) => ArrayData::UInt64(decode!(raw, u64, o)),
+            _ => return None,
+        },
+        Datatype::FloatingPoint {
+            size: 4,
+            byte_order: o,
+        } => ArrayData::Float32(decode!(raw, f32, o)),
+        Datatype::FloatingPoint {
+            size: 8,
+            byte_order: o,
+        } => ArrayData::Float64(decode!(raw, f64, o)),
+        _ => return None,
+    })
+}
+
+/// A short name for an HDF5 type that is not read as numbers.
+fn type_words(dtype: &Datatype) -> String {
+    match dtype {
+        Datatype::FixedPoint { size, .. } => format!("{size}-byte integers"),
+        Datatype::FloatingPoint { size, .. } => format!("{size}-byte floats"),
+        Datatype::String { .. } => "strings".into(),
+        Datatype::VarLen { .. } => "variable-length data".into(),
+        Datatype::Compound { .. } => "a compound type".into(),
+        Datatype::Array { .. } => "an HDF5 array type".into(),
+        Datatype::Enum { .. } => "an enumeration (h5py writes booleans so)".into(),
+        Datatype::Opaque { .. } => "opaque data".into(),
+        Datatype::Reference { .. } => "references".into(),
+        Datatype::Bitfield { .. } => "a bitfield".into(),
+    }
+}
+
+fn is_string(dtype: &Datatype) -> bool {
+    match dtype {
+        Datatype::String { .. } => true,
+        Datatype::VarLen { kind, .. } => matches!(kind, hdf5_reader::VarLenKind::String),
+        _ => false,
+    }
+}
+
+/// Integer values as i64, or `None` for floats and u64 values past i64.
+fn to_i64(data: &ArrayData) -> Option<Vec<i64>> {
+    Some(match data {
+        ArrayData::Int8(v) => v.iter().map(|&x| x as i64).collect(),
+        ArrayData::UInt8(v) => v.iter().map(|&x| x as i64).collect(),
+        ArrayData::Int16(v) => v.iter().map(|&x| x as i64).collect(),
+        ArrayData::UInt16(v) => v.iter().map(|&x| x as i64).collect(),
+        ArrayData::Int32(v) => v.iter().map(|&x| x as i64).collect(),
+        ArrayData::UInt32(v) => v.iter().map(|&x| x as i64).collect(),
+        ArrayData::Int64(v) => v.clone(),
+        ArrayData::UInt64(v) => v
+            .iter()
+            .map(|&x| i64::try_from(x).ok())
+            .collect::<Option<Vec<i64>>>()?,
+        _ => return None,
+    })
+}
+
+/// Trims the NUL or space padding of a fixed-length HDF5 string.
+fn unpad(s: &str) -> &str {
+    s.trim_end_matches(['\0', ' '])
+}
+
+impl<'a> Reader<'a> {
+    fn err(&self, place: &str, msg: impl Into<String>) -> FormatError {
+        FormatError::new(place_of(place), msg).with_file(self.path)
+    }
+
+    fn array_err(&self, name: &str, msg: impl Into<String>) -> FormatError {
+        FormatError::in_array(name, msg).with_file(self.path)
+    }
+
+    /// The string value of attribute `name` of the VTKHDF group.
+    fn attr_string(&self, name: &str) -> Result<String> {
+        let place = place_of(&format!("attribute '{name}' of /VTKHDF"));
+        let a = guarded(self.path, &place, || self.group.attribute(name))?;
+        let s = guarded(self.path, &place, || {
+            a.read_string().or_else(|_| {
+                a.read_strings()
+                    .map(|v| v.into_iter().next().unwrap_or_default())
+            })
+        })?;
+        Ok(unpad(&s).to_string())
+    }
+
+    /// The integer values of attribute `name` of the VTKHDF group.
+    fn attr_ints(&self, name: &str) -> Result<Vec<i64>> {
+        let place = place_of(&format!("attribute '{name}' of /VTKHDF"));
+        let a = guarded(self.path, &place, || self.group.attribute(name))?;
+        guarded(self.path, &place, || {
+            a.read_1d::<i64>()
+                .or_else(|_| {
+                    a.read_1d::<i32>()
+                        .map(|v| v.into_iter().map(i64::from).collect())
+                })
+                .or_else(|_| {
+                    a.read_1d::<u32>()
+                        .map(|v| v.into_iter().map(i64::from).collect())
+                })
+                .or_else(|_| {
+                    a.read_1d::<i16>()
+                        .map(|v| v.into_iter().map(i64::from).collect())
+                })
+                .or_else(|_| {
+                    a.read_1d::<u16>()
+                        .map(|v| v.into_iter().map(i64::from).collect())
+                })
+                .or_else(|_| {
+                    a.read_1d::<i8>()
+                        .map(|v| v.into_iter().map(i64::from).collect())
+                })
+                .or_else(|_| {
+                    a.read_1d::<u8>()
+                        .map(|v| v.into_iter().map(i64::from).collect())
+                })
+        })
+    }
+
+    /// Reads dataset `name` of `group` (shown as `shown` in messages) as numbers, or as strings
+    /// when `strings` allows them.
+    fn dataset(
+        &self,
+        group: &hdf5_reader::group::Group,
+        name: &str,
+        shown: &str,
+        strings: bool,
+    ) -> Result<Read> {
+        let place = Place::Array(shown.to_string());
+        let ds = guarded(self.path, &place, || group.dataset(name))?;
+        let shape = ds.shape().to_vec();
+        let dtype = ds.dtype().clone();
+        let elem = match &dtype {
+            Datatype::FixedPoint { size, .. } | Datatype::FloatingPoint { size, .. } => {
+                u64::from(*size)
+            }
+            _ => 1,
+        };
+        let n = shape
+            .iter()
+            .try_fold(1u64, |acc, &d| acc.checked_mul(d))
+            .filter(|&n| n.saturating_mul(elem) <= self.max_read)
+            .ok_or_else(|| {
+                self.array_err(
+                    shown,
+                    format!("its shape {shape:?} is more than a file of this size could hold"),
+                )
+            })?;
+        if is_string(&dtype) {
+            if !strings {
+                return Err(self.array_err(
+                    shown,
+                    "holds strings; tetkit reads strings only in FieldData",
+                ));
+            }
+            if shape.len() > 1 {
+                return Err(self.array_err(
+                    shown,
+                    format!("holds strings in shape {shape:?}; only 1-D string arrays are read"),
+                ));
+            }
+            let s = guarded(self.path, &place, || ds.read_strings())?;
+            if s.len() as u64 != n {
+                return Err(
+                    self.array_err(shown, format!("{} strings read, {n} expected", s.len()))
+                );
+            }
+            return Ok(Read {
+                shape,
+                data: ArrayData::String(s.iter().map(|x| unpad(x).to_string()).collect()),
+            });
+        }
+        if decode(&[], &dtype).is_none() {
+            return Err(self.array_err(
+                shown,
+                format!("holds {}, not numbers tetkit reads", type_words(&dtype)),
+            ));
+        }
+        let raw = guarded(self.path, &place, || ds.read_raw_bytes())?;
+        if raw.len() as u64 != n.saturating_mul(elem) {
+            return Err(self.array_err(
+                shown,
+                format!(
+                    "{} bytes read, {} expected",
+                    raw.len(),
+                    n.saturating_mul(elem)
+                ),
+            ));
+        }
+        let data = decode(&raw, &dtype).ok_or_else(|| {
+            self.array_err(
+                shown,
+                format!("holds {}, not numbers tetkit reads", type_words(&dtype)),
+            )
+        })?;
+        Ok(Read { shape, data })
+    }
+
+    /// A 1-D integer dataset of `/VTKHDF` of `len` entries (any length when `None`), as i64.
+    fn ints(&self, name: &str, len: Option<u64>) -> Result<Vec<i64>> {
+        let r = self.dataset(&self.group, name, name, false)?;
+        if r.shape.len() != 1 {
+            return Err(self.array_err(name, format!("has shape {:?}, expected 1-D", r.shape)));
+        }
+        if let Some(len) = len {
+            if r.shape[0] != len {
+                return Err(
+                    self.array_err(name, format!("has {} entries, expected {len}", r.shape[0]))
+                );
+            }
+        }
+        to_i64(&r.data).ok_or_else(|| {
+            self.array_err(
+                name,
+                format!(
+                    "holds {} values, expected integers (below 2^63)",
+                    r.data.type_name()
+                ),
+            )
+        })
+    }
+
+    fn has_member(&self, name: &str) -> Result<bool> {
+        let place = place_of("/VTKHDF");
+        let (groups, datasets) = guarded(self.path, &place, || self.group.member_names())?;
+        Ok(groups.iter().chain(&datasets).any(|m| m == name))
+    }
+
+    /// The arrays of group `gname` (PointData, CellData, FieldData), each with `tuples` tuples
+    /// (any number when `None`), in the order HDF5 lists them.
+    fn arrays(&self, gname: &str, tuples: Option<u64>) -> Result<(Vec<DataArray>, Attributes)> {
+        let mut attrs = Attributes::default();
+        if !self.has_member(gname)? {
+            return Ok((Vec::new(), attrs));
+        }
+        let place = place_of(&format!("group /VTKHDF/{gname}"));
+        let g = guarded(self.path, &place, || self.group.group(gname))?;
+        let (groups, names) = guarded(self.path, &place, || g.member_names())?;
+        if let Some(sub) = groups.first() {
+            return Err(self.err(
+                &format!("group /VTKHDF/{gname}"),
+                format!("holds a group '{sub}' where arrays are expected; it is not read"),
+            ));
+        }
+        let field = tuples.is_none();
+        let mut out = Vec::with_capacity(names.len());
+        for name in names {
+            let shown = format!("{gname}/{name}");
+            let r = self.dataset(&g, &name, &shown, field)?;
+            let components = match r.shape.as_slice() {
+                [_] => 1,
+                [_, c] => *c,
+                s => {
+                    return Err(self.array_err(
+                        &shown,
+                        format!("has shape {s:?}; arrays are 1-D or 2-D (tuples x components)"),
+                    ))
+                }
+            };
+            if components == 0 {
+                return Err(self.array_err(&shown, "has 0 components"));
+            }
+            if let Some(n) = tuples {
+                if r.shape[0] != n {
+                    let what = if gname == "PointData" {
+                        "points"
+                    } else {
+                        "cells"
+                    };
+                    return Err(self.array_err(
+                        &shown,
+                        format!("has {} tuples, but the file has {n} {what}", r.shape[0]),
+                    ));
+                }
+            }
+            let components = usize::try_from(components)
+                .map_err(|_| self.array_err(&shown, "has too many components"))?;
+            out.push(DataArray::new(name, components, r.data));
+        }
+        // Active attributes, when the group names them as VTK XML does (`Scalars="name"`).
+        if !field {
+            for role in Attribute::ALL {
+                let Ok(a) = guarded(self.path, &place, || g.attribute(role.xml_name())) else {
+                    continue;
+                };
+                if let Ok(s) = guarded(self.path, &place, || a.read_string()) {
+                    let s = unpad(&s).to_string();
+                    if out.iter().any(|x| x.name == s) {
+                        attrs.active.push((role, s));
+                    }
+                }
+            }
+        }
+        Ok((out, attrs))
+    }
+}
+
+/// Reads the VTKHDF UnstructuredGrid file in `bytes`; `path` names it in errors.
+pub fn read_from(bytes: &[u8], path: &Path) -> Result<Grid> {
+    if !is_hdf5(bytes) {
+        return Err(
+            FormatError::at_byte(0, "not an HDF5 file (no HDF5 signature), so not VTKHDF")
+                .with_file(path),
+        );
+    }
+    let max_read = (bytes.len() as u64)
+        .saturating_mul(MAX_EXPANSION)
+        .max(1 << 20);
+    let limit = usize::try_from(max_read).unwrap_or(usize::MAX);
+    let options = OpenOptions {
+        max_read_bytes: limit,
+        max_chunk_bytes: limit.min(hdf5_reader::DEFAULT_MAX_CHUNK_BYTES),
+        ..OpenOptions::default()
+    };
+    let whole = Place::File;
+    let file = guarded(path, &whole, || {
+        Hdf5File::from_bytes_with_options(bytes, options)
+    })?;
+    let root = guarded(path, &whole, || file.root_group())?;
+    let (groups, _) = guarded(path, &whole, || root.member_names())?;
+    if !groups.iter().any(|g| g == "VTKHDF") {
+        return Err(
+            FormatError::whole("an HDF5 file without a /VTKHDF group: not a VTKHDF file")
+                .with_file(path),
+        );
+    }
+    let group = guarded(path, &place_of("group /VTKHDF"), || root.group("VTKHDF"))?;
+    let r = Reader {
+        path,
+        group,
+        max_read,
+    };
+    let ty = r.attr_string("Type")?;
+    if ty != "UnstructuredGrid" {
+        let what = if OTHER_TYPES.contains(&ty.as_str()) {
+            format!("VTKHDF {ty} is not read; tetkit reads VTKHDF UnstructuredGrid only")
+        } else {
+            format!("unknown VTKHDF Type '{ty}'; tetkit reads UnstructuredGrid")
+        };
+        return Err(r.err("attribute 'Type' of /VTKHDF", what));
+    }
+    let version = r.attr_ints("Version")?;
+    match version.first() {
+        Some(1 | 2) => {}
+        _ => {
+            return Err(r.err(
+                "attribute 'Version' of /VTKHDF",
+                format!("version {version:?}; tetkit reads VTKHDF versions 1.x and 2.x"),
+            ))
+        }
+    }
+    if r.has_member("Steps")? {
+        return Err(r.err(
+            "group /VTKHDF/Steps",
+            "temporal VTKHDF (a Steps group) is not read; tetkit reads static files",
+        ));
+    }
+    read_grid(&r)
+}
+
+/// Sums per-piece counts, refusing negative ones and overflow.
+fn total(r: &Reader, name: &str, counts: &[i64]) -> Result<u64> {
+    let mut sum = 0u64;
+    for (k, &c) in counts.iter().enumerate() {
+        let c = u64::try_from(c)
+            .map_err(|_| r.array_err(name, format!("piece {k} has a negative count {c}")))?;
+        sum = sum
+            .checked_add(c)
+            .filter(|&s| s <= r.max_read)
+            .ok_or_else(|| {
+                r.array_err(name, "the counts add up to more than the file could hold")
+            })?;
+    }
+    Ok(sum)
+}
+
+fn read_grid(r: &Reader) -> Result<Grid> {
+    let np = r.ints("NumberOfPoints", None)?;
+    let pieces = np.len() as u64;
+    if pieces == 0 {
+        return Err(r.array_err("NumberOfPoints", "is empty: the file has no pieces"));
+    }
+    let nc = r.ints("NumberOfCells", Some(pieces))?;
+    let nconn = r.ints("NumberOfConnectivityIds", Some(pieces))?;
+    let np_total = total(r, "NumberOfPoints", &np)?;
+    let nc_total = total(r, "NumberOfCells", &nc)?;
+    let nconn_total = total(r, "NumberOfConnectivityIds", &nconn)?;
+
+    let points = r.dataset(&r.group, "Points", "Points", false)?;
+    if points.shape != [np_total, 3] {
+        return Err(r.array_err(
+            "Points",
+            format!(
+                "has shape {:?}, expected [{np_total}, 3] (NumberOfPoints x 3)",
+                points.shape
+            ),
+        ));
+    }
+    let types = r.dataset(&r.group, "Types", "Types", false)?;
+    if types.shape != [nc_total] {
+        return Err(r.array_err(
+            "Types",
+            format!(
+                "has shape {:?}, expected [{nc_total}] (one per cell)",
+                types.shape
+            ),
+        ));
+    }
+    let types: Vec<u8> = match types.data {
+        ArrayData::UInt8(v) => v,
+        other => to_i64(&other)
+            .and_then(|v| v.into_iter().map(|t| u8::try_from(t).ok()).collect())
+            .ok_or_else(|| {
+                r.array_err(
+                    "Types",
+                    format!(
+                        "holds {} values, expected cell type ids 0..255",
+                        other.type_name()
+                    ),
+                )
+            })?,
+    };
+    let offsets = r.ints("Offsets", Some(nc_total + pieces))?;
+    let conn = r.ints("Connectivity", Some(nconn_total))?;
+
+    // Join the pieces: each piece's offsets start at 0 and its ids count its own points.
+    let mut cells = Cells {
+        types,
+        offsets: Vec::with_capacity(offsets.len()),
+        connectivity: Vec::with_capacity(conn.len()),
+        polyhedron_faces: None,
+    };
+    cells.offsets.push(0);
+    let (mut p0, mut c0, mut o0, mut k0) = (0i64, 0usize, 0usize, 0i64);
+    for k in 0..np.len() {
+        let (npk, nck, nconnk) = (np[k], nc[k] as usize, nconn[k] as usize);
+        let off = &offsets[o0..o0 + nck + 1];
+        if off[0] != 0 {
+            return Err(r.array_err(
+                "Offsets",
+                format!("piece {k}'s offsets start at {}, expected 0", off[0]),
+            ));
+        }
+        // Structure first (offsets that decrease also give wrong sizes), then cell by cell.
+        for i in 0..nck {
+            let (a, b) = (off[i], off[i + 1]);
+            if b < a {
+                return Err(r.array_err(
+                    "Offsets",
+                    format!(
+                        "offsets decrease at cell {} (piece {k}): {a} then {b}",
+                        c0 + i
+                    ),
+                ));
+            }
+            if b as u64 > nconnk as u64 {
+                return Err(r.array_err(
+                    "Offsets",
+                    format!(
+                        "cell {} (piece {k}) ends at {b}, past the piece's {nconnk} connectivity ids",
+                        c0 + i
+                    ),
+                ));
+            }
+        }
+        for i in 0..nck {
+            let cell = c0 + i;
+            let (a, b) = (off[i], off[i + 1]);
+            let t = cells.types[cell];
+            if t == cell_type::POLYHEDRON {
+                return Err(r.array_err(
+                    "Types",
+                    format!(
+                        "cell {cell} is a polyhedron (type 42); VTKHDF polyhedra (FaceConnectivity) are not read"
+                    ),
+                ));
+            }
+            if let Some(n) = cell_type::fixed_size(t) {
+                if (b - a) as usize != n {
+                    return Err(r.array_err(
+                        "Offsets",
+                        format!(
+                            "cell {cell} is a {} with {} points, expected {n}",
+                            cell_type::name(t),
+                            b - a
+                        ),
+                    ));
+                }
+            }
+            cells.offsets.push(k0 + b);
+        }
+        if off[nck] as u64 != nconnk as u64 {
+            return Err(r.array_err(
+                "Offsets",
+                format!(
+                    "piece {k}'s offsets end at {}, but it has {nconnk} connectivity ids",
+                    off[nck]
+                ),
+            ));
+        }
+        for (j, &id) in conn[k0 as usize..k0 as usize + nconnk].iter().enumerate() {
+            if id < 0 || id >= npk {
+                return Err(r.array_err(
+                    "Connectivity",
+                    format!(
+                        "entry {} is point id {id}, outside piece {k}'s points 0..{npk}",
+                        k0 as usize + j
+                    ),
+                ));
+            }
+            cells.connectivity.push(p0 + id);
+        }
+        p0 += npk;
+        c0 += nck;
+        o0 += nck + 1;
+        k0 += nconnk as i64;
+    }
+
+    let (pd, mut point_data) = r.arrays("PointData", Some(np_total))?;
+    let (cd, mut cell_data) = r.arrays("CellData", Some(nc_total))?;
+    let (field_data, _) = r.arrays("FieldData", None)?;
+    point_data.arrays = pd;
+    cell_data.arrays = cd;
+    Ok(Grid {
+        points: DataArray::new("Points", 3, points.data),
+        cells,
+        point_data,
+        cell_data,
+        field_data,
+    })
+}
+
+#[cfg(test)]
+mod tests;

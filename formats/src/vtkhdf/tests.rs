@@ -1,0 +1,195 @@
+//! Unit tests of the VTKHDF reader on the fixtures of scripts/make_vtkhdf_fixtures.py.
+
+use super::*;
+use std::path::PathBuf;
+
+type TestResult = std::result::Result<(), Box<dyn std::error::Error>>;
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures/vtkhdf")
+        .join(name)
+}
+
+fn read(name: &str) -> Result<Grid> {
+    let p = fixture(name);
+    let bytes = std::fs::read(&p).map_err(|e| FormatError::io(&p, e))?;
+    read_from(&bytes, &p)
+}
+
+/// The error reading `name`, with the file's name checked in it.
+fn error(name: &str) -> String {
+    match read(name) {
+        Ok(_) => panic!("{name} should not read"),
+        Err(e) => {
+            let m = e.to_string();
+            assert!(m.contains(name), "{m}");
+            m
+        }
+    }
+}
+
+fn array<'a>(arrays: &'a [DataArray], name: &str) -> &'a DataArray {
+    let Some(a) = arrays.iter().find(|a| a.name == name) else {
+        panic!(
+            "no array {name} in {:?}",
+            arrays.iter().map(|a| &a.name).collect::<Vec<_>>()
+        );
+    };
+    a
+}
+
+#[test]
+fn tets_keep_every_array_with_its_type_and_components() -> TestResult {
+    let g = read("tets.vtkhdf")?;
+    g.validate()?;
+    assert_eq!((g.num_points(), g.num_cells()), (36, 60));
+    assert!(matches!(g.points.data, ArrayData::Float64(_)));
+    assert!(g.cells.types.iter().all(|&t| t == cell_type::TETRA));
+    let t = array(&g.point_data.arrays, "temperature");
+    assert_eq!((t.data.type_name(), t.components), ("Float32", 1));
+    let v = array(&g.point_data.arrays, "velocity");
+    assert_eq!(
+        (v.data.type_name(), v.components, v.tuples()),
+        ("Float64", 3, 36)
+    );
+    let m = array(&g.cell_data.arrays, "material");
+    assert_eq!((m.data.type_name(), m.components), ("Int32", 1));
+    let s = array(&g.cell_data.arrays, "tensor");
+    assert_eq!((s.data.type_name(), s.components), ("Float32", 9));
+    let time = array(&g.field_data, "time");
+    assert_eq!(time.data, ArrayData::Float64(vec![0.5, 1.25]));
+    let ids = array(&g.field_data, "ids");
+    assert_eq!(ids.components, 3);
+    assert_eq!(ids.data, ArrayData::Int64(vec![1, 2, 3, 4, 5, 6]));
+    Ok(())
+}
+
+#[test]
+fn second_piece_ids_are_shifted_by_the_first_pieces_points() -> TestResult {
+    let one = read("tets.vtkhdf")?;
+    let two = read("two_pieces.vtkhdf")?;
+    two.validate()?;
+    assert_eq!((two.num_points(), two.num_cells()), (72, 120));
+    let n = one.cells.connectivity.len();
+    assert_eq!(&two.cells.connectivity[..n], &one.cells.connectivity[..]);
+    let shifted: Vec<i64> = one.cells.connectivity.iter().map(|&i| i + 36).collect();
+    assert_eq!(&two.cells.connectivity[n..], &shifted[..]);
+    let offsets: Vec<i64> = one.cells.offsets[1..]
+        .iter()
+        .map(|&o| o + n as i64)
+        .collect();
+    assert_eq!(&two.cells.offsets[61..], &offsets[..]);
+    assert_eq!(two.point(36), [2.0, 0.0, 0.0]);
+    Ok(())
+}
+
+#[test]
+fn compressed_chunked_file_reads_as_the_plain_one() -> TestResult {
+    assert_eq!(read("gzip.vtkhdf")?, read("tets.vtkhdf")?);
+    Ok(())
+}
+
+#[test]
+fn float32_points_mixed_cells_and_small_types() -> TestResult {
+    let g = read("float32.hdf")?;
+    assert!(matches!(g.points.data, ArrayData::Float32(_)));
+    assert_eq!(
+        array(&g.point_data.arrays, "level").data.type_name(),
+        "UInt16"
+    );
+    assert_eq!(array(&g.cell_data.arrays, "sign").data.type_name(), "Int8");
+    let m = read("mixed.vtkhdf")?;
+    m.validate()?;
+    assert_eq!(m.cells.types, vec![12, 13, 13, 14, 10]);
+    assert_eq!(
+        array(&m.cell_data.arrays, "global_id").data.type_name(),
+        "UInt64"
+    );
+    Ok(())
+}
+
+#[test]
+fn string_field_data_vlen_type_and_active_scalars_are_read() -> TestResult {
+    let g = read("string_field.vtkhdf")?;
+    let s = array(&g.field_data, "names");
+    assert_eq!(
+        s.data,
+        ArrayData::String(vec!["alpha".into(), "beta".into()])
+    );
+    Ok(())
+}
+
+#[test]
+fn errors_name_the_file_and_the_place() {
+    for (name, needles) in [
+        (
+            "bad_type.vtkhdf",
+            &["'Type'", "ImageData", "UnstructuredGrid only"][..],
+        ),
+        (
+            "bad_connectivity.vtkhdf",
+            &["'Connectivity'", "entry 7", "outside piece 0's points"],
+        ),
+        (
+            "bad_offsets.vtkhdf",
+            &["'Offsets'", "decrease at cell 2", "12 then 8"],
+        ),
+        (
+            "bad_cellsize.vtkhdf",
+            &["'Offsets'", "cell 1 is a tetra with 5 points"],
+        ),
+        ("bad_points.vtkhdf", &["'Points'", "expected [8, 3]"]),
+        (
+            "bad_pointdata.vtkhdf",
+            &["'PointData/temperature'", "7 tuples", "8 points"],
+        ),
+        ("polyhedron.vtkhdf", &["'Types'", "cell 0 is a polyhedron"]),
+        ("temporal.vtkhdf", &["Steps", "temporal"]),
+        ("truncated.vtkhdf", &["HDF5"]),
+    ] {
+        let m = error(name);
+        for n in needles {
+            assert!(m.contains(n), "{name}: {m:?} lacks {n:?}");
+        }
+    }
+}
+
+#[test]
+fn other_files_are_refused_by_what_they_are() -> TestResult {
+    let p = Path::new("x.vtkhdf");
+    let e = read_from(b"# vtk DataFile Version 4.2\n", p).err();
+    assert!(e.is_some_and(|e| e.to_string().contains("not an HDF5 file")));
+    let nc4 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/exodus/nc4/hand.exo");
+    let bytes = std::fs::read(&nc4)?;
+    let e = read_from(&bytes, p).err();
+    assert!(
+        e.as_ref()
+            .is_some_and(|e| e.to_string().contains("without a /VTKHDF group")),
+        "{e:?}"
+    );
+    Ok(())
+}
+
+#[test]
+fn truncations_and_flipped_bytes_give_errors_not_panics() -> TestResult {
+    let p = fixture("mixed.vtkhdf");
+    let bytes = std::fs::read(&p)?;
+    let whole = read_from(&bytes, &p)?;
+    // A cut that leaves every byte the file uses (HDF5 files can end in unused space) reads the
+    // same grid; any other is an error naming the file.
+    for cut in (0..bytes.len()).step_by(97) {
+        match read_from(&bytes[..cut], &p) {
+            Ok(g) => assert_eq!(g, whole, "cut at {cut}"),
+            Err(e) => assert!(e.to_string().contains("mixed.vtkhdf"), "{e}"),
+        }
+    }
+    for at in (0..bytes.len()).step_by(13) {
+        let mut b = bytes.clone();
+        b[at] ^= 0x5a;
+        if let Err(e) = read_from(&b, &p) {
+            assert!(e.to_string().contains("mixed.vtkhdf"), "{e}");
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,196 @@
+//! VTKHDF fixtures (scripts/make_vtkhdf_fixtures.py, written with h5py) through the real binary:
+//! each good file reads to the points, cells and arrays VTK 9.1's vtkHDFReader gave (saved
+//! beside it as X_vtk.vtu), `convert` keeps every array, bad files fail naming the file and the
+//! problem and write nothing, and damaged copies never panic.
+
+mod common;
+
+use common::*;
+use std::path::{Path, PathBuf};
+use tetkit::formats::{self, DataArray, Grid};
+
+type TestResult = Result<(), Box<dyn std::error::Error>>;
+
+const GOOD: [&str; 7] = [
+    "tets.vtkhdf",
+    "two_pieces.vtkhdf",
+    "float32.hdf",
+    "mixed.vtkhdf",
+    "gzip.vtkhdf",
+    "version2.vtkhdf",
+    "userblock.vtkhdf",
+];
+
+fn vtkhdf(name: &str) -> PathBuf {
+    fixture("vtkhdf").join(name)
+}
+
+fn stem(p: &Path) -> String {
+    p.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// The arrays of `a` and `b` agree: the same names, each with the same type, components and
+/// bit-identical values.
+fn same_arrays(what: &str, a: &[DataArray], b: &[DataArray]) -> Result<(), String> {
+    let mut names: Vec<&str> = a.iter().map(|x| x.name.as_str()).collect();
+    let mut other: Vec<&str> = b.iter().map(|x| x.name.as_str()).collect();
+    names.sort_unstable();
+    other.sort_unstable();
+    if names != other {
+        return Err(format!("{what}: arrays {names:?} vs {other:?}"));
+    }
+    for x in a {
+        let Some(y) = b.iter().find(|y| y.name == x.name) else {
+            return Err(format!("{what} '{}' missing", x.name));
+        };
+        if x.components != y.components || !x.data.bit_eq(&y.data) {
+            return Err(format!(
+                "{what} '{}': {} x{} vs {} x{}, or different values",
+                x.name,
+                x.data.type_name(),
+                x.components,
+                y.data.type_name(),
+                y.components
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn same_as_vtk(ours: &Grid, vtk: &Grid) -> Result<(), String> {
+    if !ours.points.data.bit_eq(&vtk.points.data) {
+        return Err(format!(
+            "points differ ({} vs {})",
+            ours.points.data.type_name(),
+            vtk.points.data.type_name()
+        ));
+    }
+    if ours.cells.types != vtk.cells.types {
+        return Err("cell types differ".into());
+    }
+    if ours.cells.offsets != vtk.cells.offsets {
+        return Err("offsets differ".into());
+    }
+    if ours.cells.connectivity != vtk.cells.connectivity {
+        return Err("connectivity differs".into());
+    }
+    same_arrays(
+        "point data",
+        &ours.point_data.arrays,
+        &vtk.point_data.arrays,
+    )?;
+    same_arrays("cell data", &ours.cell_data.arrays, &vtk.cell_data.arrays)?;
+    same_arrays("field data", &ours.field_data, &vtk.field_data)
+}
+
+#[test]
+fn every_good_fixture_reads_as_vtk_9_1_read_it() -> TestResult {
+    for name in GOOD {
+        let f = vtkhdf(name);
+        let ours = formats::read(&f)?;
+        let vtk = formats::read(&f.with_file_name(format!("{}_vtk.vtu", stem(&f))))?;
+        same_as_vtk(&ours, &vtk).map_err(|e| format!("{name}: {e}"))?;
+        assert!(ours.num_cells() > 0, "{name}");
+    }
+    Ok(())
+}
+
+#[test]
+fn info_and_convert_keep_every_array() -> TestResult {
+    let dir = tempdir();
+    for name in GOOD.iter().chain(&["string_field.vtkhdf"]) {
+        let f = vtkhdf(name);
+        let info = tetkit(["info".as_ref(), f.as_os_str()]);
+        info.assert_success();
+        let ours = formats::read(&f)?;
+        let out = info.stdout_str();
+        for a in ours.point_data.arrays.iter().chain(&ours.cell_data.arrays) {
+            assert!(
+                out.contains(&a.name),
+                "{name}: info lacks {}:\n{out}",
+                a.name
+            );
+        }
+        let vtu = dir.path().join(format!("{}.vtu", stem(&f)));
+        tetkit(["convert".as_ref(), f.as_os_str(), vtu.as_os_str()]).assert_success();
+        grids_bit_equal(&ours, &formats::read(&vtu)?).map_err(|e| format!("{name}: {e}"))?;
+    }
+    Ok(())
+}
+
+#[test]
+fn bad_files_fail_naming_the_file_and_the_problem_and_write_nothing() {
+    let dir = tempdir();
+    for (name, needle) in [
+        ("bad_type.vtkhdf", "VTKHDF ImageData is not read"),
+        (
+            "bad_connectivity.vtkhdf",
+            "array 'Connectivity': entry 7 is point id 11",
+        ),
+        (
+            "bad_offsets.vtkhdf",
+            "array 'Offsets': offsets decrease at cell 2",
+        ),
+        ("bad_cellsize.vtkhdf", "cell 1 is a tetra with 5 points"),
+        ("bad_points.vtkhdf", "array 'Points': has shape [8, 2]"),
+        (
+            "bad_pointdata.vtkhdf",
+            "array 'PointData/temperature': has 7 tuples",
+        ),
+        ("polyhedron.vtkhdf", "polyhedron (type 42)"),
+        (
+            "temporal.vtkhdf",
+            "temporal VTKHDF (a Steps group) is not read",
+        ),
+        ("truncated.vtkhdf", "HDF5:"),
+    ] {
+        let f = vtkhdf(name);
+        let out = dir.path().join(format!("{}.vtu", stem(&f)));
+        tetkit(["convert".as_ref(), f.as_os_str(), out.as_os_str()])
+            .assert_failure(&[name, needle]);
+        assert!(!out.exists(), "{name}: wrote {}", out.display());
+    }
+}
+
+#[test]
+fn other_content_behind_a_vtkhdf_extension_is_named() -> TestResult {
+    let dir = tempdir();
+    let vtu = dir.path().join("a.vtkhdf");
+    std::fs::copy(vtkhdf("tets_vtk.vtu"), &vtu)?;
+    tetkit(["info".as_ref(), vtu.as_os_str()]).assert_failure(&["a.vtkhdf", "the content is VTU"]);
+    let exo = dir.path().join("b.hdf");
+    std::fs::copy(fixture("exodus/nc4/tets.exo"), &exo)?;
+    tetkit(["info".as_ref(), exo.as_os_str()])
+        .assert_failure(&["b.hdf", "without a /VTKHDF group"]);
+    let empty = dir.path().join("c.vtkhdf");
+    std::fs::write(&empty, b"")?;
+    tetkit(["info".as_ref(), empty.as_os_str()]).assert_failure(&["c.vtkhdf", "not an HDF5 file"]);
+    Ok(())
+}
+
+#[test]
+fn truncated_and_flipped_copies_never_panic() -> TestResult {
+    let dir = tempdir();
+    let bytes = std::fs::read(vtkhdf("tets.vtkhdf"))?;
+    let f = dir.path().join("damaged.vtkhdf");
+    let stride = bytes.len() / 24 + 1;
+    for at in (0..bytes.len()).step_by(stride) {
+        for cut in [true, false] {
+            let mut b = bytes.clone();
+            if cut {
+                b.truncate(at);
+            } else {
+                b[at] ^= 0xff;
+            }
+            std::fs::write(&f, &b)?;
+            let run = tetkit(["info".as_ref(), f.as_os_str()]);
+            if !run.success() {
+                run.assert_failure(&["damaged.vtkhdf"]);
+            }
+            assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+        }
+    }
+    Ok(())
+}
