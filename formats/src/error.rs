@@ -92,3 +92,23 @@ impl fmt::Display for FormatError {
 impl std::error::Error for FormatError {}
 
 pub type Result<T> = std::result::Result<T, FormatError>;
+
+/// Runs `f`, a call into a crate that parses structures from untrusted bytes: its error becomes
+/// its message, and a panic deep down (`catch_unwind` over `AssertUnwindSafe`: callers use
+/// nothing the closure touched after a failure) becomes "the reader failed on a corrupt file".
+pub(crate) fn guard_panics<R, E: fmt::Display>(
+    f: impl FnOnce() -> std::result::Result<R, E>,
+) -> std::result::Result<R, String> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(Ok(r)) => Ok(r),
+        Ok(Err(e)) => Err(e.to_string()),
+        Err(panic) => {
+            let m = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            Err(format!("the reader failed on a corrupt file ({m})"))
+        }
+    }
+}

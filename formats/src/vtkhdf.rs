@@ -8,11 +8,11 @@
 //! component; 2-D: tuples x components), each kept with its name, type and component count.
 //! Temporal files (a `Steps` group), polyhedra (type 42) and other `Type`s are refused by name.
 
+use crate::error::guard_panics;
 use crate::exodus::is_hdf5;
 use crate::{cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, FormatError, Grid};
 use crate::{Place, Result};
 use hdf5_reader::{ByteOrder, Datatype, Hdf5File, OpenOptions};
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 /// File extensions read as VTKHDF.
@@ -39,28 +39,15 @@ pub fn has_extension(path: &Path) -> bool {
         .is_some_and(|e| EXTENSIONS.contains(&e.as_str()))
 }
 
-/// Runs a call into `hdf5-reader`, its errors and panics made errors naming the file and `place`.
-/// The crate parses HDF5's structures from untrusted bytes; `catch_unwind` guards against a
-/// panic deep down (over `AssertUnwindSafe`: nothing the closure touches is used after a failed
-/// call).
+/// Runs a call into `hdf5-reader`, its errors and panics ([`guard_panics`]: it parses HDF5's
+/// structures from untrusted bytes) made errors naming the file and `place`.
 fn guarded<R>(
     path: &Path,
     place: &Place,
     f: impl FnOnce() -> std::result::Result<R, hdf5_reader::error::Error>,
 ) -> Result<R> {
-    let err = |m: String| FormatError::new(place.clone(), format!("HDF5: {m}")).with_file(path);
-    match catch_unwind(AssertUnwindSafe(f)) {
-        Ok(Ok(r)) => Ok(r),
-        Ok(Err(e)) => Err(err(e.to_string())),
-        Err(panic) => {
-            let m = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default();
-            Err(err(format!("the reader failed on a corrupt file ({m})")))
-        }
-    }
+    guard_panics(f)
+        .map_err(|m| FormatError::new(place.clone(), format!("HDF5: {m}")).with_file(path))
 }
 
 /// A dataset read whole: its shape and values in the file's own element type.

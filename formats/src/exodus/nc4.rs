@@ -2,9 +2,9 @@
 //! Exodus reader's questions ([`Source`]) exactly as the classic [`super::netcdf::File`] does.
 
 use super::netcdf::{text_row, FromNc, NcType, Source};
+use crate::error::guard_panics;
 use crate::{FormatError, Result};
 use netcdf_reader::{NcFile, NcOpenOptions, NcReadable, NcSliceInfo, NcSliceInfoElem};
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 /// The HDF5 format signature.
@@ -195,26 +195,13 @@ impl<'a> Nc4<'a> {
 /// Runs a call into the `netcdf-reader` crate, its errors and panics made errors naming the
 /// file. The crate returns errors for corrupt files: every truncation and every flipped byte of
 /// two fixtures gave an error or the same grid's shape, no panic (tests.rs). It still parses
-/// HDF5's structures deep down from untrusted bytes, so `catch_unwind` stays as a guard (over
-/// `AssertUnwindSafe`: nothing the closure touches is used after a failed call); a panic's
-/// message would also go to stderr through the panic hook.
+/// HDF5's structures deep down from untrusted bytes, so [`guard_panics`] stays as a guard; a
+/// panic's message would also go to stderr through the panic hook.
 fn guarded<R>(
     path: &Path,
     f: impl FnOnce() -> std::result::Result<R, netcdf_reader::Error>,
 ) -> Result<R> {
-    let whole = |m: String| FormatError::whole(format!("NetCDF-4 (HDF5): {m}")).with_file(path);
-    match catch_unwind(AssertUnwindSafe(f)) {
-        Ok(Ok(r)) => Ok(r),
-        Ok(Err(e)) => Err(whole(e.to_string())),
-        Err(panic) => {
-            let m = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default();
-            Err(whole(format!("the reader failed on a corrupt file ({m})")))
-        }
-    }
+    guard_panics(f).map_err(|m| FormatError::whole(format!("NetCDF-4 (HDF5): {m}")).with_file(path))
 }
 
 impl Source for Nc4<'_> {
