@@ -378,7 +378,7 @@ pub fn read(path: &Path) -> Result<Grid> {
         Format::VtkHdf => {
             let bytes = read_file(path)?;
             check_vtkhdf_sniff(path, &bytes)?;
-            vtkhdf::read_from(&bytes, path)?
+            vtkhdf::read_vec(bytes, path)?
         }
     };
     checked(grid, path)

@@ -397,6 +397,26 @@ impl<'a> Reader<'a> {
 
 /// Reads the VTKHDF UnstructuredGrid file in `bytes`; `path` names it in errors.
 pub fn read_from(bytes: &[u8], path: &Path) -> Result<Grid> {
+    let (options, max_read) = options_for(bytes, path)?;
+    let file = guarded(path, &Place::File, || {
+        Hdf5File::from_bytes_with_options(bytes, options)
+    })?;
+    read_file(file, path, max_read)
+}
+
+/// [`read_from`] taking the file's bytes, which the HDF5 reader keeps rather than copies (a
+/// whole file less at the peak).
+pub fn read_vec(bytes: Vec<u8>, path: &Path) -> Result<Grid> {
+    let (options, max_read) = options_for(&bytes, path)?;
+    let file = guarded(path, &Place::File, move || {
+        Hdf5File::from_vec_with_options(bytes, options)
+    })?;
+    read_file(file, path, max_read)
+}
+
+/// The HDF5 reader's bounds for a file of `bytes` (what a read may decode, at most
+/// [`MAX_EXPANSION`] times the file), after checking it is HDF5 at all.
+fn options_for(bytes: &[u8], path: &Path) -> Result<(OpenOptions, u64)> {
     if !is_hdf5(bytes) {
         return Err(
             FormatError::at_byte(0, "not an HDF5 file (no HDF5 signature), so not VTKHDF")
@@ -412,10 +432,12 @@ pub fn read_from(bytes: &[u8], path: &Path) -> Result<Grid> {
         max_chunk_bytes: limit.min(hdf5_reader::DEFAULT_MAX_CHUNK_BYTES),
         ..OpenOptions::default()
     };
+    Ok((options, max_read))
+}
+
+/// Reads the grid of an opened VTKHDF file.
+fn read_file(file: Hdf5File, path: &Path, max_read: u64) -> Result<Grid> {
     let whole = Place::File;
-    let file = guarded(path, &whole, || {
-        Hdf5File::from_bytes_with_options(bytes, options)
-    })?;
     let root = guarded(path, &whole, || file.root_group())?;
     let (groups, _) = guarded(path, &whole, || root.member_names())?;
     if !groups.iter().any(|g| g == "VTKHDF") {

@@ -193,3 +193,26 @@ fn truncations_and_flipped_bytes_give_errors_not_panics() -> TestResult {
     }
     Ok(())
 }
+
+#[test]
+fn owned_bytes_read_as_borrowed_ones() -> TestResult {
+    // `read_vec` (files) and `read_from` (stdin) give the same grid, or the same error, for
+    // every fixture, good and bad.
+    let mut n = 0;
+    for entry in std::fs::read_dir(fixture(""))? {
+        let p = entry?.path();
+        if !matches!(
+            p.extension().and_then(|e| e.to_str()),
+            Some("vtkhdf" | "hdf")
+        ) {
+            continue;
+        }
+        let bytes = std::fs::read(&p)?;
+        let borrowed = read_from(&bytes, &p).map_err(|e| e.to_string());
+        let owned = read_vec(bytes, &p).map_err(|e| e.to_string());
+        assert!(borrowed == owned, "{}", p.display());
+        n += 1;
+    }
+    assert!(n >= 10, "only {n} fixtures");
+    Ok(())
+}
