@@ -210,6 +210,26 @@ impl ArrayData {
         }
     }
 
+    /// Integer values as i64, taking the buffer (an Int64 array is returned as it is): for ids,
+    /// offsets and counts. `Err(None)` for floats and strings, `Err(Some(x))` for the first
+    /// UInt64 value `x` past `i64::MAX`.
+    pub fn into_i64(self) -> Result<Vec<i64>, Option<u64>> {
+        Ok(match self {
+            ArrayData::Int64(v) => v,
+            ArrayData::Int32(v) => v.into_iter().map(i64::from).collect(),
+            ArrayData::Int16(v) => v.into_iter().map(i64::from).collect(),
+            ArrayData::Int8(v) => v.into_iter().map(i64::from).collect(),
+            ArrayData::UInt32(v) => v.into_iter().map(i64::from).collect(),
+            ArrayData::UInt16(v) => v.into_iter().map(i64::from).collect(),
+            ArrayData::UInt8(v) => v.into_iter().map(i64::from).collect(),
+            ArrayData::UInt64(v) => v
+                .into_iter()
+                .map(|x| i64::try_from(x).map_err(|_| Some(x)))
+                .collect::<Result<_, _>>()?,
+            _ => return Err(None),
+        })
+    }
+
     /// Value `i` as f64 (NaN for strings).
     pub fn get_f64(&self, i: usize) -> f64 {
         with_numeric!(self, v => v[i].to_f64(), _s => f64::NAN)

@@ -139,24 +139,6 @@ fn is_string(dtype: &Datatype) -> bool {
     }
 }
 
-/// Integer values as i64, or `None` for floats and u64 values past i64.
-fn to_i64(data: &ArrayData) -> Option<Vec<i64>> {
-    Some(match data {
-        ArrayData::Int8(v) => v.iter().map(|&x| x as i64).collect(),
-        ArrayData::UInt8(v) => v.iter().map(|&x| x as i64).collect(),
-        ArrayData::Int16(v) => v.iter().map(|&x| x as i64).collect(),
-        ArrayData::UInt16(v) => v.iter().map(|&x| x as i64).collect(),
-        ArrayData::Int32(v) => v.iter().map(|&x| x as i64).collect(),
-        ArrayData::UInt32(v) => v.iter().map(|&x| x as i64).collect(),
-        ArrayData::Int64(v) => v.clone(),
-        ArrayData::UInt64(v) => v
-            .iter()
-            .map(|&x| i64::try_from(x).ok())
-            .collect::<Option<Vec<i64>>>()?,
-        _ => return None,
-    })
-}
-
 /// Trims the NUL or space padding of a fixed-length HDF5 string.
 fn unpad(s: &str) -> &str {
     s.trim_end_matches(['\0', ' '])
@@ -188,32 +170,18 @@ impl<'a> Reader<'a> {
     fn attr_ints(&self, name: &str) -> Result<Vec<i64>> {
         let place = place_of(&format!("attribute '{name}' of /VTKHDF"));
         let a = guarded(self.path, &place, || self.group.attribute(name))?;
+        // The attribute's own integer type, whichever h5py or VTK chose.
+        fn wide<T: Into<i64>>(v: Vec<T>) -> Vec<i64> {
+            v.into_iter().map(Into::into).collect()
+        }
         guarded(self.path, &place, || {
             a.read_1d::<i64>()
-                .or_else(|_| {
-                    a.read_1d::<i32>()
-                        .map(|v| v.into_iter().map(i64::from).collect())
-                })
-                .or_else(|_| {
-                    a.read_1d::<u32>()
-                        .map(|v| v.into_iter().map(i64::from).collect())
-                })
-                .or_else(|_| {
-                    a.read_1d::<i16>()
-                        .map(|v| v.into_iter().map(i64::from).collect())
-                })
-                .or_else(|_| {
-                    a.read_1d::<u16>()
-                        .map(|v| v.into_iter().map(i64::from).collect())
-                })
-                .or_else(|_| {
-                    a.read_1d::<i8>()
-                        .map(|v| v.into_iter().map(i64::from).collect())
-                })
-                .or_else(|_| {
-                    a.read_1d::<u8>()
-                        .map(|v| v.into_iter().map(i64::from).collect())
-                })
+                .or_else(|_| a.read_1d::<i32>().map(wide))
+                .or_else(|_| a.read_1d::<u32>().map(wide))
+                .or_else(|_| a.read_1d::<i16>().map(wide))
+                .or_else(|_| a.read_1d::<u16>().map(wide))
+                .or_else(|_| a.read_1d::<i8>().map(wide))
+                .or_else(|_| a.read_1d::<u8>().map(wide))
         })
     }
 
@@ -309,13 +277,11 @@ impl<'a> Reader<'a> {
                 );
             }
         }
-        to_i64(&r.data).ok_or_else(|| {
+        let ty = r.data.type_name();
+        r.data.into_i64().map_err(|_| {
             self.array_err(
                 name,
-                format!(
-                    "holds {} values, expected integers (below 2^63)",
-                    r.data.type_name()
-                ),
+                format!("holds {ty} values, expected integers (below 2^63)"),
             )
         })
     }
@@ -530,17 +496,19 @@ fn read_grid(r: &Reader) -> Result<Grid> {
     }
     let types: Vec<u8> = match types.data {
         ArrayData::UInt8(v) => v,
-        other => to_i64(&other)
-            .and_then(|v| v.into_iter().map(|t| u8::try_from(t).ok()).collect())
-            .ok_or_else(|| {
-                r.array_err(
-                    "Types",
-                    format!(
-                        "holds {} values, expected cell type ids 0..255",
-                        other.type_name()
-                    ),
-                )
-            })?,
+        other => {
+            let ty = other.type_name();
+            other
+                .into_i64()
+                .ok()
+                .and_then(|v| v.into_iter().map(|t| u8::try_from(t).ok()).collect())
+                .ok_or_else(|| {
+                    r.array_err(
+                        "Types",
+                        format!("holds {ty} values, expected cell type ids 0..255"),
+                    )
+                })?
+        }
     };
     let offsets = r.ints("Offsets", Some(nc_total + pieces))?;
     let conn = r.ints("Connectivity", Some(nconn_total))?;

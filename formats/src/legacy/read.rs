@@ -317,25 +317,9 @@ fn upsert(v: &mut Vec<DataArray>, a: DataArray) {
 }
 
 fn to_i64(cur: &Cursor<'_>, at: usize, what: &str, data: ArrayData) -> Result<Vec<i64>> {
-    Ok(match data {
-        ArrayData::Int64(v) => v,
-        ArrayData::Int32(v) => v.into_iter().map(i64::from).collect(),
-        ArrayData::Int16(v) => v.into_iter().map(i64::from).collect(),
-        ArrayData::Int8(v) => v.into_iter().map(i64::from).collect(),
-        ArrayData::UInt32(v) => v.into_iter().map(i64::from).collect(),
-        ArrayData::UInt16(v) => v.into_iter().map(i64::from).collect(),
-        ArrayData::UInt8(v) => v.into_iter().map(i64::from).collect(),
-        ArrayData::UInt64(v) => {
-            let mut out = Vec::with_capacity(v.len());
-            for x in v {
-                out.push(
-                    i64::try_from(x)
-                        .map_err(|_| cur.err(at, format!("{what}: {x} is too large")))?,
-                );
-            }
-            out
-        }
-        _ => return Err(cur.err(at, format!("{what} must have an integer type"))),
+    data.into_i64().map_err(|e| match e {
+        Some(x) => cur.err(at, format!("{what}: {x} is too large")),
+        None => cur.err(at, format!("{what} must have an integer type")),
     })
 }
 
