@@ -25,8 +25,19 @@ Bad files (tetkit refuses each, naming the problem):
   bad_points.vtkhdf        Points N x 2
   bad_pointdata.vtkhdf     a point array one tuple short
   polyhedron.vtkhdf        a VTK_POLYHEDRON cell (type 42), not read
-  temporal.vtkhdf          a Steps group (version 2 temporal data), not read
+  bad_steps.vtkhdf         a Steps group with NSteps and Values only (no PartOffsets, ...)
+  bad_step_offsets.vtkhdf  temporal.vtkhdf with step 0's PointOffsets past the Points
   truncated.vtkhdf         tets.vtkhdf cut to its first 3000 bytes
+Temporal (VTKHDF 2.0, a Steps group; VTK 9.1 predates temporal VTKHDF, so no VTK reading):
+  temporal.vtkhdf          4 steps laid out as VTK's vtkHDFWriter lays them out: geometry
+                           written when it changes (steps 0-1: one part; steps 2-3: two parts),
+                           point and cell data each step with Steps/PointDataOffsets and
+                           CellDataOffsets (step 3's 'temperature' replays step 2's rows), a
+                           field array with FieldDataOffsets/FieldDataSizes (none at step 2),
+                           CellOffsets N x 1 and ConnectivityIdOffsets 1-D
+  temporal_stepK.vtkhdf    step K of temporal.vtkhdf as a static file, built from the same
+                           numpy arrays without the Steps layout: what reading temporal@K gives
+                           (besides the field array Time)
 string_field.vtkhdf (fixed- and variable-length string datasets in FieldData, a variable-length
 Type, an int32 Version, PointData's attribute Scalars) tetkit reads, the strings kept; it is left
 out of the VTK comparison.
@@ -137,6 +148,120 @@ def mixed_piece():
     return pts, types, offsets, conn, pd, cd
 
 
+def write_temporal(path, steps):
+    """steps: dicts with 'time', 'geom' (list of (points, types, offsets, connectivity) parts, or
+    None to keep the previous step's), 'pd' and 'cd' (name -> the step's values, parts
+    concatenated), 'replay' (point arrays that reuse the previous step's rows) and 'field'
+    (name -> 2-D values; a name missing from a step has size 0 there)."""
+    with h5py.File(path, "w") as f:
+        root = f.create_group("VTKHDF")
+        root.attrs["Version"] = np.array((2, 0), dtype=np.int64)
+        root.attrs.create("Type", np.bytes_("UnstructuredGrid"),
+                          dtype=h5py.string_dtype("ascii", len("UnstructuredGrid")))
+        counts = {"NumberOfPoints": [], "NumberOfCells": [], "NumberOfConnectivityIds": []}
+        geo = {"Points": [], "Types": [], "Offsets": [], "Connectivity": []}
+        st = {k: [] for k in ("PartOffsets", "NumberOfParts", "PointOffsets", "CellOffsets",
+                              "ConnectivityIdOffsets")}
+        rows = {"PointData": {}, "CellData": {}, "FieldData": {}}
+        offs = {"PointData": {}, "CellData": {}, "FieldData": {}}
+        sizes = {}
+        fnames = sorted({n for s in steps for n in s["field"]})
+        cur = None
+        for s in steps:
+            if s["geom"] is not None:
+                # In the order of `st`: PartOffsets, NumberOfParts, PointOffsets, CellOffsets,
+                # ConnectivityIdOffsets.
+                cur = (len(counts["NumberOfPoints"]), len(s["geom"]), sum(counts["NumberOfPoints"]),
+                       sum(counts["NumberOfCells"]), sum(counts["NumberOfConnectivityIds"]))
+                for pts, types, offsets, conn in s["geom"]:
+                    counts["NumberOfPoints"].append(len(pts))
+                    counts["NumberOfCells"].append(len(types))
+                    counts["NumberOfConnectivityIds"].append(len(conn))
+                    for k, v in zip(("Points", "Types", "Offsets", "Connectivity"),
+                                    (pts, types, offsets, conn)):
+                        geo[k].append(v)
+            for k, v in zip(st, cur):
+                st[k].append(v)
+            for g, key in (("PointData", "pd"), ("CellData", "cd")):
+                for name, v in s[key].items():
+                    r, o = rows[g].setdefault(name, []), offs[g].setdefault(name, [])
+                    if name in s.get("replay", ()):
+                        o.append(o[-1])
+                    else:
+                        o.append(sum(len(x) for x in r))
+                        r.append(v)
+            for name in fnames:
+                r, o = rows["FieldData"].setdefault(name, []), offs["FieldData"].setdefault(name, [])
+                o.append(sum(len(x) for x in r))
+                v = s["field"].get(name)
+                if v is None:
+                    sizes.setdefault(name, []).append((0, 0))
+                else:
+                    sizes.setdefault(name, []).append((v.shape[1], v.shape[0]))
+                    r.append(v)
+        for k, v in counts.items():
+            root.create_dataset(k, data=np.array(v, dtype=np.int64))
+        for k, v in geo.items():
+            root.create_dataset(k, data=np.concatenate(v))
+        for g in rows:
+            grp = root.create_group(g)
+            for name, r in rows[g].items():
+                grp.create_dataset(name, data=np.concatenate(r))
+        steps_g = root.create_group("Steps")
+        steps_g.attrs["NSteps"] = np.int64(len(steps))
+        steps_g.create_dataset("Values", data=np.array([s["time"] for s in steps], dtype=np.float64))
+        for k, v in st.items():
+            v = np.array(v, dtype=np.int64)
+            # Both shapes VTK writes for an UnstructuredGrid: N x 1 and 1-D.
+            steps_g.create_dataset(k, data=v.reshape(-1, 1) if k == "CellOffsets" else v)
+        for g, kind in (("PointData", "PointDataOffsets"), ("CellData", "CellDataOffsets"),
+                        ("FieldData", "FieldDataOffsets")):
+            grp = steps_g.create_group(kind)
+            for name, o in offs[g].items():
+                grp.create_dataset(name, data=np.array(o, dtype=np.int64))
+        grp = steps_g.create_group("FieldDataSizes")
+        for name, v in sizes.items():
+            grp.create_dataset(name, data=np.array(v, dtype=np.int64))
+
+
+def temporal_steps():
+    """The steps of temporal.vtkhdf, and each as the pieces and field of a static file."""
+    a = [tets_piece(dims=(2, 2, 2))]
+    b = [tets_piece(dims=(2, 2, 2), origin=(1.0, 0.0, 0.0)),
+         tets_piece(dims=(3, 2, 2), origin=(0.0, 2.0, 0.0))]
+    geom = [a, a, b, b]
+    out, static = [], []
+    for k, time in enumerate((0.0, 0.5, 1.25, 2.0)):
+        parts = geom[k]
+        pds, cds = [], []
+        for pts, types, _, _, _, _ in parts:
+            pd, cd, _ = piece_arrays(pts, len(types), shift=10.0 * k)
+            pds.append(pd)
+            cds.append(cd)
+        pd = {n: np.concatenate([x[n] for x in pds]) for n in pds[0]}
+        cd = {n: np.concatenate([x[n] for x in cds]) for n in cds[0]}
+        replay = ()
+        if k == 3:
+            # temperature replays step 2's rows.
+            pd["temperature"] = out[2]["pd"]["temperature"]
+            replay = ("temperature",)
+        field = {}
+        if k != 2:
+            field["history"] = (np.arange((k + 1) * 2, dtype=np.float64) * 0.5 + k).reshape(k + 1, 2)
+        out.append({"time": time, "geom": [p[:4] for p in parts] if k in (0, 2) else None,
+                    "pd": pd, "cd": cd, "replay": replay, "field": field})
+        # The static file's pieces carry their own slices of the step's arrays.
+        pieces, p0, c0 = [], 0, 0
+        for pts, types, offsets, conn, _, _ in parts:
+            pieces.append((pts, types, offsets, conn,
+                           {n: v[p0:p0 + len(pts)] for n, v in pd.items()},
+                           {n: v[c0:c0 + len(types)] for n, v in cd.items()}))
+            p0 += len(pts)
+            c0 += len(types)
+        static.append((pieces, field))
+    return out, static
+
+
 def check_vtk(path):
     """VTK 9.1's reading of path, saved as X_vtk.vtu."""
     r = vtk.vtkHDFReader()
@@ -206,11 +331,18 @@ def main():
     t = types.copy()
     t[0] = 42
     write(o("polyhedron.vtkhdf"), [(pts, t, offsets, conn, pd, cd)])
-    write(o("temporal.vtkhdf"), [small], version=(2, 0))
-    with h5py.File(o("temporal.vtkhdf"), "a") as f:
+    write(o("bad_steps.vtkhdf"), [small], version=(2, 0))
+    with h5py.File(o("bad_steps.vtkhdf"), "a") as f:
         s = f["VTKHDF"].create_group("Steps")
         s.attrs["NSteps"] = np.int64(1)
         s.create_dataset("Values", data=np.array([0.0]))
+    steps, static = temporal_steps()
+    write_temporal(o("temporal.vtkhdf"), steps)
+    for k, (pieces, field) in enumerate(static):
+        write(o(f"temporal_step{k}.vtkhdf"), pieces, field, version=(2, 0))
+    write_temporal(o("bad_step_offsets.vtkhdf"), steps)
+    with h5py.File(o("bad_step_offsets.vtkhdf"), "a") as f:
+        f["VTKHDF/Steps/PointOffsets"][0] = 1000
     write(o("string_field.vtkhdf"), [small])
     with h5py.File(o("string_field.vtkhdf"), "a") as f:
         f["VTKHDF/FieldData"].create_dataset("names", data=np.array([b"alpha", b"beta"], dtype="S8"))

@@ -86,18 +86,68 @@ fn bad_files_fail_naming_the_file_and_the_problem_and_write_nothing() {
             "array 'PointData/temperature': has 7 tuples",
         ),
         ("polyhedron.vtkhdf", "polyhedron (type 42)"),
+        ("bad_steps.vtkhdf", "array 'Steps/PartOffsets'"),
         (
-            "temporal.vtkhdf",
-            "temporal VTKHDF (a Steps group) is not read",
+            "bad_step_offsets.vtkhdf",
+            "array 'Points': has 28 rows, but time step 0 reads rows 1000 to 1008",
         ),
+        ("temporal.vtkhdf@7", "there is no time step 7"),
         ("truncated.vtkhdf", "HDF5:"),
     ] {
         let f = vtkhdf(name);
         let out = dir.path().join(format!("{}.vtu", stem(&f)));
+        let shown = name.split('@').next().unwrap_or(name);
         tetkit(["convert".as_ref(), f.as_os_str(), out.as_os_str()])
-            .assert_failure(&[name, needle]);
+            .assert_failure(&[shown, needle]);
         assert!(!out.exists(), "{name}: wrote {}", out.display());
     }
+}
+
+#[test]
+fn temporal_steps_list_convert_and_render() -> TestResult {
+    let dir = tempdir();
+    let f = vtkhdf("temporal.vtkhdf");
+    let info = tetkit(["info".as_ref(), f.as_os_str()]);
+    info.assert_success();
+    let out = info.stdout_str();
+    assert!(out.contains("time steps: 4"), "{out}");
+    assert!(out.contains("t = 1.25"), "{out}");
+    let times = [0.0, 0.5, 1.25, 2.0];
+    for (k, t) in times.into_iter().enumerate() {
+        // `FILE@K` through the binary: the step's grid, its time as the field array Time.
+        let step = PathBuf::from(format!("{}@{k}", f.display()));
+        let vtu = dir.path().join(format!("step{k}.vtu"));
+        tetkit(["convert".as_ref(), step.as_os_str(), vtu.as_os_str()]).assert_success();
+        let got = formats::read(&vtu)?;
+        let mut want = formats::read(&vtkhdf(&format!("temporal_step{k}.vtkhdf")))?;
+        want.field_data.push(formats::DataArray::new(
+            "Time",
+            1,
+            formats::ArrayData::Float64(vec![t]),
+        ));
+        grids_bit_equal(&got, &want).map_err(|e| format!("step {k}: {e}"))?;
+    }
+    let last = PathBuf::from(format!("{}@last", f.display()));
+    let info = tetkit(["info".as_ref(), last.as_os_str()]);
+    info.assert_success();
+    assert!(
+        info.stdout_str().contains("this is step 3"),
+        "{}",
+        info.stdout_str()
+    );
+    let png = dir.path().join("last.png");
+    tetkit([
+        "render".as_ref(),
+        last.as_os_str(),
+        "-o".as_ref(),
+        png.as_os_str(),
+        "--size".as_ref(),
+        "64x64".as_ref(),
+        "--quiet".as_ref(),
+    ])
+    .assert_success();
+    assert!(png.exists());
+    Ok(())
 }
 
 #[test]

@@ -281,6 +281,36 @@ impl ArrayData {
             && self.native_bytes() == other.native_bytes()
     }
 
+    /// Tuples `start .. start + count` (of `components` values each), taking the buffer: the
+    /// whole array comes back as it is. Tuples past the end are not there to take.
+    pub fn into_rows(self, components: usize, start: usize, count: usize) -> ArrayData {
+        fn cut<T>(mut v: Vec<T>, a: usize, b: usize) -> Vec<T> {
+            if a == 0 && b >= v.len() {
+                return v;
+            }
+            v.truncate(b);
+            v.drain(..a.min(v.len()));
+            v
+        }
+        let (a, b) = (
+            start.saturating_mul(components),
+            start.saturating_add(count).saturating_mul(components),
+        );
+        match self {
+            ArrayData::Int8(v) => ArrayData::Int8(cut(v, a, b)),
+            ArrayData::UInt8(v) => ArrayData::UInt8(cut(v, a, b)),
+            ArrayData::Int16(v) => ArrayData::Int16(cut(v, a, b)),
+            ArrayData::UInt16(v) => ArrayData::UInt16(cut(v, a, b)),
+            ArrayData::Int32(v) => ArrayData::Int32(cut(v, a, b)),
+            ArrayData::UInt32(v) => ArrayData::UInt32(cut(v, a, b)),
+            ArrayData::Int64(v) => ArrayData::Int64(cut(v, a, b)),
+            ArrayData::UInt64(v) => ArrayData::UInt64(cut(v, a, b)),
+            ArrayData::Float32(v) => ArrayData::Float32(cut(v, a, b)),
+            ArrayData::Float64(v) => ArrayData::Float64(cut(v, a, b)),
+            ArrayData::String(v) => ArrayData::String(cut(v, a, b)),
+        }
+    }
+
     /// Tuples `idx[k]` (of `components` values each), in that order.
     pub fn gather(&self, components: usize, idx: &[usize]) -> ArrayData {
         fn g<T: Clone>(v: &[T], c: usize, idx: &[usize]) -> Vec<T> {

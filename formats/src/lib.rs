@@ -324,13 +324,19 @@ fn read_file(path: &Path) -> Result<Vec<u8>> {
     std::fs::read(path).map_err(|e| FormatError::io(path, e))
 }
 
-/// Reads a mesh, choosing the reader by extension and checking the content agrees. A `.pvd`
-/// or Exodus file gives its first time step; `FILE.pvd@K` / `FILE.exo@K` (or `@last`) step K
-/// (see [`pvd::split_selector`], [`exodus::split_selector`]).
+/// Reads a mesh, choosing the reader by extension and checking the content agrees. A `.pvd`,
+/// Exodus or temporal VTKHDF file gives its first time step; `FILE.pvd@K` / `FILE.exo@K` /
+/// `FILE.vtkhdf@K` (or `@last`) step K (see [`pvd::split_selector`],
+/// [`exodus::split_selector`], [`vtkhdf::split_selector`]).
 pub fn read(path: &Path) -> Result<Grid> {
     if let Some((file, sel)) = pvd::split_selector(path) {
         check_sniff(&file, Format::Pvd, &read_head(&file)?)?;
         return checked(pvd::read_selected(&file, sel)?, path);
+    }
+    if let Some((file, sel)) = vtkhdf::split_selector(path) {
+        let bytes = read_file(&file)?;
+        check_vtkhdf_sniff(&file, &bytes)?;
+        return checked(vtkhdf::read_vec_at(bytes, &file, sel)?, path);
     }
     if let Some((file, sel)) = exodus::split_selector(path) {
         let bytes = read_file(&file)?;

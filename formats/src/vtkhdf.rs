@@ -6,14 +6,19 @@
 //! pieces concatenated. The pieces are joined into one grid, each piece's ids shifted by the
 //! points before it. `PointData`, `CellData` and `FieldData` hold one dataset per array (1-D: one
 //! component; 2-D: tuples x components), each kept with its name, type and component count.
-//! Temporal files (a `Steps` group), polyhedra (type 42) and other `Type`s are refused by name.
+//! Temporal files (a `Steps` group, VTKHDF 2) give one step: the first, or `FILE.vtkhdf@K` /
+//! `@last`; the step's parts, points, cells and array rows are found through the `Steps` offsets
+//! as VTK's reader finds them, and its time is added as the field array `Time`, as VTK adds it.
+//! Polyhedra (type 42) and other `Type`s are refused by name.
 
 use crate::error::guard_panics;
 use crate::exodus::is_hdf5;
+use crate::pvd::Selector;
 use crate::{cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, FormatError, Grid};
 use crate::{Place, Result};
+use hdf5_reader::group::Group;
 use hdf5_reader::{ByteOrder, Datatype, Hdf5File, OpenOptions};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// File extensions read as VTKHDF.
 pub const EXTENSIONS: [&str; 2] = ["vtkhdf", "hdf"];
@@ -37,6 +42,26 @@ pub fn has_extension(path: &Path) -> bool {
     path.extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .is_some_and(|e| EXTENSIONS.contains(&e.as_str()))
+}
+
+/// Splits `FILE.vtkhdf@K` / `FILE.vtkhdf@last` (also `.hdf`) into the file and the time step;
+/// `None` for any other path.
+pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
+    crate::pvd::split_step(path, has_extension)
+}
+
+/// The times of a temporal file's steps (`Steps/Values`); empty for a static file.
+pub fn times(path: &Path) -> Result<Vec<f64>> {
+    let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
+    let (options, max_read) = options_for(&bytes, path)?;
+    let file = guarded(path, &Place::File, move || {
+        Hdf5File::from_vec_with_options(bytes, options)
+    })?;
+    let r = open(file, path, max_read)?;
+    if !r.has_member("Steps")? {
+        return Ok(Vec::new());
+    }
+    Ok(r.steps()?.values)
 }
 
 /// Runs a call into `hdf5-reader`, its errors and panics ([`guard_panics`]: it parses HDF5's
@@ -166,10 +191,10 @@ impl<'a> Reader<'a> {
         Ok(unpad(&s).to_string())
     }
 
-    /// The integer values of attribute `name` of the VTKHDF group.
-    fn attr_ints(&self, name: &str) -> Result<Vec<i64>> {
-        let place = place_of(&format!("attribute '{name}' of /VTKHDF"));
-        let a = guarded(self.path, &place, || self.group.attribute(name))?;
+    /// The integer values of attribute `name` of `group` (shown as `gname`).
+    fn attr_ints(&self, group: &Group, gname: &str, name: &str) -> Result<Vec<i64>> {
+        let place = place_of(&format!("attribute '{name}' of {gname}"));
+        let a = guarded(self.path, &place, || group.attribute(name))?;
         // The attribute's own integer type, whichever h5py or VTK chose.
         fn wide<T: Into<i64>>(v: Vec<T>) -> Vec<i64> {
             v.into_iter().map(Into::into).collect()
@@ -183,6 +208,101 @@ impl<'a> Reader<'a> {
                 .or_else(|_| a.read_1d::<i8>().map(wide))
                 .or_else(|_| a.read_1d::<u8>().map(wide))
         })
+    }
+
+    /// The `Steps` group: its per-step datasets read and their lengths checked against
+    /// `Values` (and the `NSteps` attribute, when there is one).
+    fn steps(&self) -> Result<Steps> {
+        let gname = "group /VTKHDF/Steps";
+        let group = guarded(self.path, &place_of(gname), || self.group.group("Steps"))?;
+        let values = self.dataset(&group, "Values", "Steps/Values", false)?;
+        if values.shape.len() != 1 {
+            return Err(self.array_err(
+                "Steps/Values",
+                format!("has shape {:?}, expected one time per step", values.shape),
+            ));
+        }
+        let values = values.data.to_f64_vec();
+        let n = values.len() as u64;
+        if let Ok(ns) = self.attr_ints(&group, "/VTKHDF/Steps", "NSteps") {
+            if ns.first().copied() != Some(n as i64) {
+                return Err(self.err(
+                    "attribute 'NSteps' of /VTKHDF/Steps",
+                    format!("says {ns:?} steps, but Steps/Values has {n}"),
+                ));
+            }
+        }
+        let ints = |name: &str| self.step_ints(&group, name, &format!("Steps/{name}"), n);
+        Ok(Steps {
+            part_offsets: ints("PartOffsets")?,
+            parts: ints("NumberOfParts")?,
+            point_offsets: ints("PointOffsets")?,
+            cell_offsets: ints("CellOffsets")?,
+            conn_offsets: ints("ConnectivityIdOffsets")?,
+            values,
+            group,
+        })
+    }
+
+    /// One integer per step from dataset `name` of `group` (shown as `shown`): 1-D of `n`
+    /// entries, or `n` rows of which the first column is taken (an UnstructuredGrid's
+    /// `CellOffsets` may be `n x 1`; PolyData's have a column per cell kind).
+    fn step_ints(&self, group: &Group, name: &str, shown: &str, n: u64) -> Result<Vec<i64>> {
+        let r = self.dataset(group, name, shown, false)?;
+        let cols = match r.shape.as_slice() {
+            [rows] if *rows == n => 1,
+            [rows, c] if *rows == n && *c >= 1 => *c as usize,
+            s => {
+                return Err(self.array_err(
+                    shown,
+                    format!("has shape {s:?}, expected {n} entries (one per time step)"),
+                ))
+            }
+        };
+        let ty = r.data.type_name();
+        let v = r
+            .data
+            .into_i64()
+            .map_err(|_| self.array_err(shown, format!("holds {ty} values, expected integers")))?;
+        Ok(v.into_iter().step_by(cols).collect())
+    }
+
+    /// Row of dataset `Steps/<kind>/<name>` at the window's step, when the file has it.
+    fn step_row(&self, w: &Window, kind: &str, name: &str) -> Result<Option<Vec<i64>>> {
+        let Some((k, _, steps)) = &w.step else {
+            return Ok(None);
+        };
+        let gname = format!("group /VTKHDF/Steps/{kind}");
+        let (groups, _) = guarded(self.path, &place_of("group /VTKHDF/Steps"), || {
+            steps.member_names()
+        })?;
+        if !groups.iter().any(|g| g == kind) {
+            return Ok(None);
+        }
+        let g = guarded(self.path, &place_of(&gname), || steps.group(kind))?;
+        let (_, names) = guarded(self.path, &place_of(&gname), || g.member_names())?;
+        if !names.iter().any(|m| m == name) {
+            return Ok(None);
+        }
+        let shown = format!("Steps/{kind}/{name}");
+        let r = self.dataset(&g, name, &shown, false)?;
+        let (rows, cols) = match r.shape.as_slice() {
+            [n] => (*n, 1),
+            [n, c] => (*n, *c),
+            s => {
+                return Err(self.array_err(&shown, format!("has shape {s:?}, expected 1-D or 2-D")))
+            }
+        };
+        if *k as u64 >= rows || cols == 0 {
+            return Err(self.array_err(&shown, format!("has {rows} rows, none for time step {k}")));
+        }
+        let ty = r.data.type_name();
+        let v = r
+            .data
+            .into_i64()
+            .map_err(|_| self.array_err(&shown, format!("holds {ty} values, expected integers")))?;
+        let cols = cols as usize;
+        Ok(Some(v[*k * cols..(*k + 1) * cols].to_vec()))
     }
 
     /// Reads dataset `name` of `group` (shown as `shown` in messages) as numbers, or as strings
@@ -286,15 +406,96 @@ impl<'a> Reader<'a> {
         })
     }
 
+    /// The tuples `start, count` of array `name` (shown as `shown`, `total` tuples of
+    /// `components`) that `rows` reads; `None` when the step has none of it (field data sized 0).
+    fn array_rows(
+        &self,
+        name: &str,
+        shown: &str,
+        rows: Rows,
+        total: u64,
+        components: u64,
+        w: &Window,
+    ) -> Result<Option<(u64, u64)>> {
+        let first = |kind: &str| -> Result<Option<u64>> {
+            match self.step_row(w, kind, name)? {
+                None => Ok(None),
+                Some(v) => u64::try_from(v[0]).map(Some).map_err(|_| {
+                    self.array_err(
+                        &format!("Steps/{kind}/{name}"),
+                        format!("has a negative offset {} at {}", v[0], w.step_name()),
+                    )
+                }),
+            }
+        };
+        let (start, count) = match rows {
+            Rows::All(None) => (0, total),
+            Rows::All(Some(n)) => {
+                if total != n {
+                    let what = if shown.starts_with("PointData") {
+                        "points"
+                    } else {
+                        "cells"
+                    };
+                    return Err(self.array_err(
+                        shown,
+                        format!("has {total} tuples, but the file has {n} {what}"),
+                    ));
+                }
+                (0, n)
+            }
+            Rows::Step {
+                base,
+                count,
+                offsets,
+            } => (first(offsets)?.unwrap_or(base), count),
+            Rows::Field => match first("FieldDataOffsets")? {
+                None => (0, total),
+                Some(start) => match self.step_row(w, "FieldDataSizes", name)? {
+                    Some(v) if v.len() >= 2 => {
+                        if v[0] == 0 && v[1] == 0 {
+                            return Ok(None);
+                        }
+                        if v[0] != components as i64 || v[1] < 0 {
+                            return Err(self.array_err(
+                                &format!("Steps/FieldDataSizes/{name}"),
+                                format!(
+                                    "gives {} components and {} tuples at {}, but {shown} has {components} components",
+                                    v[0],
+                                    v[1],
+                                    w.step_name()
+                                ),
+                            ));
+                        }
+                        (start, v[1] as u64)
+                    }
+                    // Before `FieldDataSizes`, VTK read one tuple a step.
+                    _ => (start, 1),
+                },
+            },
+        };
+        if !start.checked_add(count).is_some_and(|end| end <= total) {
+            return Err(self.array_err(
+                shown,
+                format!(
+                    "has {total} tuples, but {} reads tuples {start} to {}",
+                    w.step_name(),
+                    start.saturating_add(count)
+                ),
+            ));
+        }
+        Ok(Some((start, count)))
+    }
+
     fn has_member(&self, name: &str) -> Result<bool> {
         let place = place_of("/VTKHDF");
         let (groups, datasets) = guarded(self.path, &place, || self.group.member_names())?;
         Ok(groups.iter().chain(&datasets).any(|m| m == name))
     }
 
-    /// The arrays of group `gname` (PointData, CellData, FieldData), each with `tuples` tuples
-    /// (any number when `None`), in the order HDF5 lists them.
-    fn arrays(&self, gname: &str, tuples: Option<u64>) -> Result<(Vec<DataArray>, Attributes)> {
+    /// The arrays of group `gname` (PointData, CellData, FieldData), the tuples `rows` says of
+    /// each, in the order HDF5 lists them.
+    fn arrays(&self, gname: &str, rows: Rows, w: &Window) -> Result<(Vec<DataArray>, Attributes)> {
         let mut attrs = Attributes::default();
         if !self.has_member(gname)? {
             return Ok((Vec::new(), attrs));
@@ -308,7 +509,7 @@ impl<'a> Reader<'a> {
                 format!("holds a group '{sub}' where arrays are expected; it is not read"),
             ));
         }
-        let field = tuples.is_none();
+        let field = matches!(rows, Rows::All(None) | Rows::Field);
         let mut out = Vec::with_capacity(names.len());
         for name in names {
             let shown = format!("{gname}/{name}");
@@ -326,22 +527,17 @@ impl<'a> Reader<'a> {
             if components == 0 {
                 return Err(self.array_err(&shown, "has 0 components"));
             }
-            if let Some(n) = tuples {
-                if r.shape[0] != n {
-                    let what = if gname == "PointData" {
-                        "points"
-                    } else {
-                        "cells"
-                    };
-                    return Err(self.array_err(
-                        &shown,
-                        format!("has {} tuples, but the file has {n} {what}", r.shape[0]),
-                    ));
-                }
-            }
+            let total = r.shape[0];
+            let Some((start, count)) =
+                self.array_rows(&name, &shown, rows, total, components, w)?
+            else {
+                continue;
+            };
             let components = usize::try_from(components)
                 .map_err(|_| self.array_err(&shown, "has too many components"))?;
-            out.push(DataArray::new(name, components, r.data));
+            // Both fit in usize: they lie within the `total` tuples just read.
+            let data = r.data.into_rows(components, start as usize, count as usize);
+            out.push(DataArray::new(name, components, data));
         }
         // Active attributes, when the group names them as VTK XML does (`Scalars="name"`).
         if !field {
@@ -361,23 +557,34 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// Reads the VTKHDF UnstructuredGrid file in `bytes`; `path` names it in errors.
+/// Reads the VTKHDF UnstructuredGrid file in `bytes` (a temporal file's first step); `path`
+/// names it in errors.
 pub fn read_from(bytes: &[u8], path: &Path) -> Result<Grid> {
+    read_from_at(bytes, path, Selector::Index(0))
+}
+
+/// [`read_from`] at time step `sel` of a temporal file (a static file has only step 0).
+pub fn read_from_at(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
     let (options, max_read) = options_for(bytes, path)?;
     let file = guarded(path, &Place::File, || {
         Hdf5File::from_bytes_with_options(bytes, options)
     })?;
-    read_file(file, path, max_read)
+    read_file(file, path, max_read, sel)
 }
 
 /// [`read_from`] taking the file's bytes, which the HDF5 reader keeps rather than copies (a
 /// whole file less at the peak).
 pub fn read_vec(bytes: Vec<u8>, path: &Path) -> Result<Grid> {
+    read_vec_at(bytes, path, Selector::Index(0))
+}
+
+/// [`read_vec`] at time step `sel`.
+pub fn read_vec_at(bytes: Vec<u8>, path: &Path, sel: Selector) -> Result<Grid> {
     let (options, max_read) = options_for(&bytes, path)?;
     let file = guarded(path, &Place::File, move || {
         Hdf5File::from_vec_with_options(bytes, options)
     })?;
-    read_file(file, path, max_read)
+    read_file(file, path, max_read, sel)
 }
 
 /// The HDF5 reader's bounds for a file of `bytes` (what a read may decode, at most
@@ -401,8 +608,8 @@ fn options_for(bytes: &[u8], path: &Path) -> Result<(OpenOptions, u64)> {
     Ok((options, max_read))
 }
 
-/// Reads the grid of an opened VTKHDF file.
-fn read_file(file: Hdf5File, path: &Path, max_read: u64) -> Result<Grid> {
+/// The `/VTKHDF` group of an opened file, after checking its `Type` and `Version`.
+fn open(file: Hdf5File, path: &Path, max_read: u64) -> Result<Reader<'_>> {
     let whole = Place::File;
     let root = guarded(path, &whole, || file.root_group())?;
     let (groups, _) = guarded(path, &whole, || root.member_names())?;
@@ -427,7 +634,7 @@ fn read_file(file: Hdf5File, path: &Path, max_read: u64) -> Result<Grid> {
         };
         return Err(r.err("attribute 'Type' of /VTKHDF", what));
     }
-    let version = r.attr_ints("Version")?;
+    let version = r.attr_ints(&r.group, "/VTKHDF", "Version")?;
     match version.first() {
         Some(1 | 2) => {}
         _ => {
@@ -437,13 +644,116 @@ fn read_file(file: Hdf5File, path: &Path, max_read: u64) -> Result<Grid> {
             ))
         }
     }
-    if r.has_member("Steps")? {
-        return Err(r.err(
-            "group /VTKHDF/Steps",
-            "temporal VTKHDF (a Steps group) is not read; tetkit reads static files",
-        ));
+    Ok(r)
+}
+
+/// Reads step `sel` of the grid of an opened VTKHDF file.
+fn read_file(file: Hdf5File, path: &Path, max_read: u64, sel: Selector) -> Result<Grid> {
+    let r = open(file, path, max_read)?;
+    let w = if r.has_member("Steps")? {
+        r.steps()?.window(&r, sel)?
+    } else {
+        if let Selector::Index(k @ 1..) = sel {
+            return Err(r.err(
+                "/VTKHDF",
+                format!("there is no time step {k}: the file is not temporal (no Steps group)"),
+            ));
+        }
+        Window::default()
+    };
+    read_grid(&r, &w)
+}
+
+/// The `Steps` group of a temporal file: per step, where its parts, points, cells and
+/// connectivity ids start.
+struct Steps {
+    group: Group,
+    values: Vec<f64>,
+    part_offsets: Vec<i64>,
+    parts: Vec<i64>,
+    point_offsets: Vec<i64>,
+    cell_offsets: Vec<i64>,
+    conn_offsets: Vec<i64>,
+}
+
+impl Steps {
+    /// Where step `sel` lies.
+    fn window(self, r: &Reader, sel: Selector) -> Result<Window> {
+        let n = self.values.len();
+        let k = match sel {
+            Selector::Index(k) => k,
+            Selector::Last => n.saturating_sub(1),
+        };
+        if k >= n {
+            return Err(r.err(
+                "group /VTKHDF/Steps",
+                format!(
+                    "there is no time step {k}: the file has {n}{}",
+                    if n > 0 {
+                        format!(" (0 to {})", n - 1)
+                    } else {
+                        String::new()
+                    }
+                ),
+            ));
+        }
+        let at = |name: &str, v: &[i64]| {
+            u64::try_from(v[k]).map_err(|_| {
+                r.array_err(
+                    &format!("Steps/{name}"),
+                    format!("step {k} has a negative offset {}", v[k]),
+                )
+            })
+        };
+        Ok(Window {
+            part0: at("PartOffsets", &self.part_offsets)?,
+            parts: Some(at("NumberOfParts", &self.parts)?),
+            point0: at("PointOffsets", &self.point_offsets)?,
+            cell0: at("CellOffsets", &self.cell_offsets)?,
+            conn0: at("ConnectivityIdOffsets", &self.conn_offsets)?,
+            step: Some((k, self.values[k], self.group)),
+        })
     }
-    read_grid(&r)
+}
+
+/// Where the step read lies in the file's datasets; the default is a static file's whole.
+#[derive(Default)]
+struct Window {
+    /// The step's index and time, and the `Steps` group, for a temporal file.
+    step: Option<(usize, f64, Group)>,
+    /// The step's first part, and how many it has (all of the file's when `None`).
+    part0: u64,
+    parts: Option<u64>,
+    /// The step's first row of `Points`, of `Types` and of `Connectivity`.
+    point0: u64,
+    cell0: u64,
+    conn0: u64,
+}
+
+impl Window {
+    /// "time step K" of a temporal file (messages name the step they read), else "the file".
+    fn step_name(&self) -> String {
+        self.step
+            .as_ref()
+            .map_or_else(|| "the file".into(), |(k, _, _)| format!("time step {k}"))
+    }
+}
+
+/// Which tuples of each array of a group a read takes.
+#[derive(Clone, Copy)]
+enum Rows<'a> {
+    /// Every tuple; exactly `n` of them when given (a static file's arrays).
+    All(Option<u64>),
+    /// `count` tuples from the step's row of each array: `Steps/<offsets>/<name>` at the step,
+    /// else `base` (the step's first point or cell), as VTK's reader places them.
+    Step {
+        base: u64,
+        count: u64,
+        offsets: &'a str,
+    },
+    /// A temporal file's field data: `Steps/FieldDataOffsets` and `Steps/FieldDataSizes` at the
+    /// step; an array without an offset is read whole.
+    Field,
 }
 
 /// Sums per-piece counts, refusing negative ones and overflow.
@@ -462,39 +772,88 @@ fn total(r: &Reader, name: &str, counts: &[i64]) -> Result<u64> {
     Ok(sum)
 }
 
-fn read_grid(r: &Reader) -> Result<Grid> {
-    let np = r.ints("NumberOfPoints", None)?;
-    let pieces = np.len() as u64;
-    if pieces == 0 {
-        return Err(r.array_err("NumberOfPoints", "is empty: the file has no pieces"));
+fn read_grid(r: &Reader, w: &Window) -> Result<Grid> {
+    let np_all = r.ints("NumberOfPoints", None)?;
+    let listed = np_all.len() as u64;
+    let nc_all = r.ints("NumberOfCells", Some(listed))?;
+    let nconn_all = r.ints("NumberOfConnectivityIds", Some(listed))?;
+    // The step's parts (a static file's are all of them).
+    let pieces = w.parts.unwrap_or(listed);
+    let part0 = w.part0;
+    if !part0.checked_add(pieces).is_some_and(|end| end <= listed) {
+        return Err(r.array_err(
+            "NumberOfPoints",
+            format!(
+                "lists {listed} parts, but {} reads parts {part0} to {}",
+                w.step_name(),
+                part0.saturating_add(pieces)
+            ),
+        ));
     }
-    let nc = r.ints("NumberOfCells", Some(pieces))?;
-    let nconn = r.ints("NumberOfConnectivityIds", Some(pieces))?;
-    let np_total = total(r, "NumberOfPoints", &np)?;
-    let nc_total = total(r, "NumberOfCells", &nc)?;
-    let nconn_total = total(r, "NumberOfConnectivityIds", &nconn)?;
+    if pieces == 0 {
+        let what = if w.step.is_some() {
+            format!("{} has no parts", w.step_name())
+        } else {
+            "is empty: the file has no pieces".to_string()
+        };
+        return Err(r.array_err("NumberOfPoints", what));
+    }
+    let parts = part0 as usize..(part0 + pieces) as usize;
+    let (np, nc, nconn) = (
+        &np_all[parts.clone()],
+        &nc_all[parts.clone()],
+        &nconn_all[parts],
+    );
+    let np_total = total(r, "NumberOfPoints", np)?;
+    let nc_total = total(r, "NumberOfCells", nc)?;
+    let nconn_total = total(r, "NumberOfConnectivityIds", nconn)?;
+    let temporal = w.step.is_some();
+    // Rows `start .. start + count` of a dataset of `have` rows: all of them in a static file.
+    let window = |name: &str, have: u64, start: u64, count: u64, unit: &str| -> Result<()> {
+        let fits = if temporal {
+            start.checked_add(count).is_some_and(|end| end <= have)
+        } else {
+            have == count
+        };
+        if fits {
+            return Ok(());
+        }
+        Err(r.array_err(
+            name,
+            if temporal {
+                format!(
+                    "has {have} {unit}, but {} reads {unit} {start} to {}",
+                    w.step_name(),
+                    start.saturating_add(count)
+                )
+            } else {
+                format!("has {have} {unit}, expected {count}")
+            },
+        ))
+    };
 
     let points = r.dataset(&r.group, "Points", "Points", false)?;
-    if points.shape != [np_total, 3] {
-        return Err(r.array_err(
-            "Points",
-            format!(
-                "has shape {:?}, expected [{np_total}, 3] (NumberOfPoints x 3)",
-                points.shape
-            ),
-        ));
+    match points.shape.as_slice() {
+        [rows, 3] => window("Points", *rows, w.point0, np_total, "rows")?,
+        s => {
+            return Err(r.array_err(
+                "Points",
+                format!("has shape {s:?}, expected [{np_total}, 3] (NumberOfPoints x 3)"),
+            ))
+        }
     }
     let types = r.dataset(&r.group, "Types", "Types", false)?;
-    if types.shape != [nc_total] {
-        return Err(r.array_err(
-            "Types",
-            format!(
-                "has shape {:?}, expected [{nc_total}] (one per cell)",
-                types.shape
-            ),
-        ));
+    match types.shape.as_slice() {
+        [rows] => window("Types", *rows, w.cell0, nc_total, "entries")?,
+        s => {
+            return Err(r.array_err(
+                "Types",
+                format!("has shape {s:?}, expected [{nc_total}] (one per cell)"),
+            ))
+        }
     }
-    let types: Vec<u8> = match types.data {
+    let types = types.data.into_rows(1, w.cell0 as usize, nc_total as usize);
+    let types: Vec<u8> = match types {
         ArrayData::UInt8(v) => v,
         other => {
             let ty = other.type_name();
@@ -510,8 +869,27 @@ fn read_grid(r: &Reader) -> Result<Grid> {
                 })?
         }
     };
-    let offsets = r.ints("Offsets", Some(nc_total + pieces))?;
-    let conn = r.ints("Connectivity", Some(nconn_total))?;
+    // Each part's offsets have one entry more than its cells: the step's start past those of
+    // the parts before it, as VTK's reader counts.
+    let off0 = w.cell0.saturating_add(part0);
+    let offsets = r.ints("Offsets", (!temporal).then_some(nc_total + pieces))?;
+    window(
+        "Offsets",
+        offsets.len() as u64,
+        off0,
+        nc_total + pieces,
+        "entries",
+    )?;
+    let offsets = &offsets[off0 as usize..(off0 + nc_total + pieces) as usize];
+    let conn = r.ints("Connectivity", (!temporal).then_some(nconn_total))?;
+    window(
+        "Connectivity",
+        conn.len() as u64,
+        w.conn0,
+        nconn_total,
+        "entries",
+    )?;
+    let conn = &conn[w.conn0 as usize..(w.conn0 + nconn_total) as usize];
 
     // Join the pieces: each piece's offsets start at 0 and its ids count its own points.
     let mut cells = Cells {
@@ -606,13 +984,43 @@ fn read_grid(r: &Reader) -> Result<Grid> {
         k0 += nconnk as i64;
     }
 
-    let (pd, mut point_data) = r.arrays("PointData", Some(np_total))?;
-    let (cd, mut cell_data) = r.arrays("CellData", Some(nc_total))?;
-    let (field_data, _) = r.arrays("FieldData", None)?;
+    let (point_rows, cell_rows, field_rows) = if temporal {
+        (
+            Rows::Step {
+                base: w.point0,
+                count: np_total,
+                offsets: "PointDataOffsets",
+            },
+            Rows::Step {
+                base: w.cell0,
+                count: nc_total,
+                offsets: "CellDataOffsets",
+            },
+            Rows::Field,
+        )
+    } else {
+        (
+            Rows::All(Some(np_total)),
+            Rows::All(Some(nc_total)),
+            Rows::All(None),
+        )
+    };
+    let (pd, mut point_data) = r.arrays("PointData", point_rows, w)?;
+    let (cd, mut cell_data) = r.arrays("CellData", cell_rows, w)?;
+    let (mut field_data, _) = r.arrays("FieldData", field_rows, w)?;
     point_data.arrays = pd;
     cell_data.arrays = cd;
+    // VTK's reader gives a temporal file's step its time as the field array `Time`.
+    if let Some((_, t, _)) = &w.step {
+        if !field_data.iter().any(|a| a.name == "Time") {
+            field_data.push(DataArray::new("Time", 1, ArrayData::Float64(vec![*t])));
+        }
+    }
+    let points = points
+        .data
+        .into_rows(3, w.point0 as usize, np_total as usize);
     Ok(Grid {
-        points: DataArray::new("Points", 3, points.data),
+        points: DataArray::new("Points", 3, points),
         cells,
         point_data,
         cell_data,

@@ -107,10 +107,20 @@ fn print_arrays(title: &str, arrays: &[DataArray], attrs: Option<&Attributes>) {
     }
 }
 
-/// The time steps of a .pvd or Exodus input (`FILE.pvd`, `FILE.pvd@K`, `FILE.exo`, `FILE.exo@K`)
-/// and the one read, else `None` (also for an Exodus file without steps). Exodus steps name no
-/// files.
+/// The time steps of a .pvd, Exodus or VTKHDF input (`FILE.pvd`, `FILE.pvd@K`, `FILE.exo`,
+/// `FILE.exo@K`, `FILE.vtkhdf@K`) and the one read, else `None` (also for an Exodus or VTKHDF
+/// file without steps). Exodus and VTKHDF steps name no files.
 fn time_steps(input: &Path) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
+    let hdf = match formats::vtkhdf::split_selector(input) {
+        Some(fs) => Some(fs),
+        None if formats::Format::from_path(input).ok() == Some(formats::Format::VtkHdf) => {
+            Some((input.to_path_buf(), pvd::Selector::Index(0)))
+        }
+        None => None,
+    };
+    if let Some((file, sel)) = hdf {
+        return Ok(timed_steps(formats::vtkhdf::times(&file)?, sel));
+    }
     let exodus = match exodus::split_selector(input) {
         Some(fs) => Some(fs),
         None if formats::Format::from_path(input).ok() == Some(formats::Format::Exodus) => {
@@ -119,22 +129,7 @@ fn time_steps(input: &Path) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
         None => None,
     };
     if let Some((file, sel)) = exodus {
-        let times = exodus::times(&file)?;
-        if times.is_empty() {
-            return Ok(None);
-        }
-        let k = match sel {
-            pvd::Selector::Index(k) => k,
-            pvd::Selector::Last => times.len() - 1,
-        };
-        let steps = times
-            .into_iter()
-            .map(|t| pvd::Step {
-                time: Some(t),
-                entries: Vec::new(),
-            })
-            .collect();
-        return Ok(Some((steps, k)));
+        return Ok(timed_steps(exodus::times(&file)?, sel));
     }
     let (file, sel) = match pvd::split_selector(input) {
         Some((f, s)) => (f, s),
@@ -151,6 +146,26 @@ fn time_steps(input: &Path) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
     Ok(Some((steps, k)))
 }
 
+/// Steps that name no files (Exodus, VTKHDF) from their times, and the one `sel` reads; `None`
+/// when there are none (a file without time steps).
+fn timed_steps(times: Vec<f64>, sel: pvd::Selector) -> Option<(Vec<pvd::Step>, usize)> {
+    if times.is_empty() {
+        return None;
+    }
+    let k = match sel {
+        pvd::Selector::Index(k) => k,
+        pvd::Selector::Last => times.len() - 1,
+    };
+    let steps = times
+        .into_iter()
+        .map(|t| pvd::Step {
+            time: Some(t),
+            entries: Vec::new(),
+        })
+        .collect();
+    Some((steps, k))
+}
+
 fn steps_json(steps: &[pvd::Step], read: usize) -> Value {
     json!({
         "read": read,
@@ -165,6 +180,7 @@ fn steps_json(steps: &[pvd::Step], read: usize) -> Value {
 fn print_steps(input: &Path, steps: &[pvd::Step], read: usize) {
     let base = pvd::split_selector(input)
         .or_else(|| exodus::split_selector(input))
+        .or_else(|| formats::vtkhdf::split_selector(input))
         .map_or_else(|| input.to_path_buf(), |(f, _)| f);
     println!(
         "time steps: {} (read one with {}@K; this is step {read})",
@@ -180,8 +196,9 @@ fn print_steps(input: &Path, steps: &[pvd::Step], read: usize) {
 }
 
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
-    let steps = time_steps(&args.input)?;
+    // The grid first: its reader names what is wrong with a file best.
     let grid = super::read_input(&args.input)?;
+    let steps = time_steps(&args.input)?;
     if args.json {
         let mut v = summary(&grid);
         v["file"] = json!(args.input.display().to_string());

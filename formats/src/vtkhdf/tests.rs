@@ -120,6 +120,83 @@ fn string_field_data_vlen_type_and_active_scalars_are_read() -> TestResult {
     Ok(())
 }
 
+/// Step `k` of `name` (`None`: the last).
+fn read_step(name: &str, k: Option<usize>) -> Result<Grid> {
+    let p = fixture(name);
+    let bytes = std::fs::read(&p).map_err(|e| FormatError::io(&p, e))?;
+    let sel = k.map_or(Selector::Last, Selector::Index);
+    read_from_at(&bytes, &p, sel)
+}
+
+#[test]
+fn each_temporal_step_reads_as_its_static_file_with_its_time() -> TestResult {
+    // The static files were built from the same arrays without the Steps layout: parts
+    // changing at step 2, arrays replayed from an earlier step's rows, field data sized 0 at
+    // step 2, CellOffsets N x 1 beside ConnectivityIdOffsets 1-D.
+    let times = [0.0, 0.5, 1.25, 2.0];
+    for (k, t) in times.into_iter().enumerate() {
+        let got = read_step("temporal.vtkhdf", Some(k))?;
+        let mut want = read(&format!("temporal_step{k}.vtkhdf"))?;
+        want.field_data
+            .push(DataArray::new("Time", 1, ArrayData::Float64(vec![t])));
+        got.validate()?;
+        assert_eq!(got, want, "step {k}");
+    }
+    assert_eq!(
+        read("temporal.vtkhdf")?,
+        read_step("temporal.vtkhdf", Some(0))?
+    );
+    assert_eq!(
+        read_step("temporal.vtkhdf", None)?,
+        read_step("temporal.vtkhdf", Some(3))?
+    );
+    // Step 3 replays step 2's temperature rows but has its own velocity.
+    let (two, three) = (
+        read_step("temporal.vtkhdf", Some(2))?,
+        read_step("temporal.vtkhdf", Some(3))?,
+    );
+    let pd = |g: &Grid, n: &str| array(&g.point_data.arrays, n).data.clone();
+    assert_eq!(pd(&two, "temperature"), pd(&three, "temperature"));
+    assert_ne!(pd(&two, "velocity"), pd(&three, "velocity"));
+    assert!(two.field_data.iter().all(|a| a.name != "history"));
+    assert_eq!(array(&three.field_data, "history").tuples(), 4);
+    // The same bytes owned or borrowed.
+    let p = fixture("temporal.vtkhdf");
+    let bytes = std::fs::read(&p)?;
+    assert_eq!(read_vec_at(bytes, &p, Selector::Index(2))?, two);
+    Ok(())
+}
+
+#[test]
+fn steps_that_are_not_there_are_named() -> TestResult {
+    let m = read_step("temporal.vtkhdf", Some(4))
+        .err()
+        .map(|e| e.to_string());
+    let m = m.unwrap_or_default();
+    assert!(
+        m.contains("temporal.vtkhdf") && m.contains("no time step 4: the file has 4 (0 to 3)"),
+        "{m}"
+    );
+    let m = read_step("tets.vtkhdf", Some(1))
+        .err()
+        .map(|e| e.to_string());
+    let m = m.unwrap_or_default();
+    assert!(
+        m.contains("no time step 1: the file is not temporal"),
+        "{m}"
+    );
+    // A static file has its one step, 0 or last.
+    assert_eq!(read_step("tets.vtkhdf", None)?, read("tets.vtkhdf")?);
+    assert_eq!(times(&fixture("temporal.vtkhdf"))?, [0.0, 0.5, 1.25, 2.0]);
+    assert!(times(&fixture("tets.vtkhdf"))?.is_empty());
+    assert_eq!(
+        split_selector(Path::new("a/b.vtkhdf@last")),
+        Some((PathBuf::from("a/b.vtkhdf"), Selector::Last))
+    );
+    assert_eq!(split_selector(Path::new("b.vtu@2")), None);
+    Ok(())
+}
+
 #[test]
 fn errors_name_the_file_and_the_place() {
     for (name, needles) in [
@@ -145,7 +222,15 @@ fn errors_name_the_file_and_the_place() {
             &["'PointData/temperature'", "7 tuples", "8 points"],
         ),
         ("polyhedron.vtkhdf", &["'Types'", "cell 0 is a polyhedron"]),
-        ("temporal.vtkhdf", &["Steps", "temporal"]),
+        ("bad_steps.vtkhdf", &["'Steps/PartOffsets'", "PartOffsets"]),
+        (
+            "bad_step_offsets.vtkhdf",
+            &[
+                "'Points'",
+                "has 28 rows",
+                "time step 0 reads rows 1000 to 1008",
+            ],
+        ),
         ("truncated.vtkhdf", &["HDF5"]),
     ] {
         let m = error(name);
