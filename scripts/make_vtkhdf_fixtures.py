@@ -35,6 +35,7 @@ Temporal (VTKHDF 2.0, a Steps group; VTK 9.1 predates temporal VTKHDF, so no VTK
                            CellDataOffsets (step 3's 'temperature' replays step 2's rows), a
                            field array with FieldDataOffsets/FieldDataSizes (none at step 2),
                            CellOffsets N x 1 and ConnectivityIdOffsets 1-D
+  temporal_gzip.vtkhdf     the same, its datasets deflated in chunks of 4 rows
   temporal_stepK.vtkhdf    step K of temporal.vtkhdf as a static file, built from the same
                            numpy arrays without the Steps layout: what reading temporal@K gives
                            (besides the field array Time)
@@ -148,11 +149,20 @@ def mixed_piece():
     return pts, types, offsets, conn, pd, cd
 
 
-def write_temporal(path, steps):
+def write_temporal(path, steps, gzip=False):
     """steps: dicts with 'time', 'geom' (list of (points, types, offsets, connectivity) parts, or
     None to keep the previous step's), 'pd' and 'cd' (name -> the step's values, parts
     concatenated), 'replay' (point arrays that reuse the previous step's rows) and 'field'
-    (name -> 2-D values; a name missing from a step has size 0 there)."""
+    (name -> 2-D values; a name missing from a step has size 0 there). With gzip, the mesh and
+    array datasets are deflated in chunks of 4 rows, so a step's rows start and end inside
+    chunks."""
+    def ds(group, name, data):
+        if gzip:
+            group.create_dataset(name, data=data, compression="gzip", compression_opts=6,
+                                 chunks=(4,) + data.shape[1:])
+        else:
+            group.create_dataset(name, data=data)
+
     with h5py.File(path, "w") as f:
         root = f.create_group("VTKHDF")
         root.attrs["Version"] = np.array((2, 0), dtype=np.int64)
@@ -202,11 +212,11 @@ def write_temporal(path, steps):
         for k, v in counts.items():
             root.create_dataset(k, data=np.array(v, dtype=np.int64))
         for k, v in geo.items():
-            root.create_dataset(k, data=np.concatenate(v))
+            ds(root, k, np.concatenate(v))
         for g in rows:
             grp = root.create_group(g)
             for name, r in rows[g].items():
-                grp.create_dataset(name, data=np.concatenate(r))
+                ds(grp, name, np.concatenate(r))
         steps_g = root.create_group("Steps")
         steps_g.attrs["NSteps"] = np.int64(len(steps))
         steps_g.create_dataset("Values", data=np.array([s["time"] for s in steps], dtype=np.float64))
@@ -338,6 +348,7 @@ def main():
         s.create_dataset("Values", data=np.array([0.0]))
     steps, static = temporal_steps()
     write_temporal(o("temporal.vtkhdf"), steps)
+    write_temporal(o("temporal_gzip.vtkhdf"), steps, gzip=True)
     for k, (pieces, field) in enumerate(static):
         write(o(f"temporal_step{k}.vtkhdf"), pieces, field, version=(2, 0))
     write_temporal(o("bad_step_offsets.vtkhdf"), steps)

@@ -14,10 +14,12 @@
 use crate::error::guard_panics;
 use crate::exodus::is_hdf5;
 use crate::pvd::Selector;
-use crate::{cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, FormatError, Grid};
+use crate::{
+    cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, FormatError, Grid, ScalarType,
+};
 use crate::{Place, Result};
 use hdf5_reader::group::Group;
-use hdf5_reader::{ByteOrder, Datatype, Hdf5File, OpenOptions};
+use hdf5_reader::{ByteOrder, Datatype, Hdf5File, OpenOptions, SliceInfo, SliceInfoElem};
 use std::path::{Path, PathBuf};
 
 /// File extensions read as VTKHDF.
@@ -305,15 +307,23 @@ impl<'a> Reader<'a> {
         Ok(Some(v[*k * cols..(*k + 1) * cols].to_vec()))
     }
 
-    /// Reads dataset `name` of `group` (shown as `shown` in messages) as numbers, or as strings
-    /// when `strings` allows them.
-    fn dataset(
+    /// Reads dataset `name` of `group` (shown as `shown` in messages) whole, as numbers, or as
+    /// strings when `strings` allows them.
+    fn dataset(&self, group: &Group, name: &str, shown: &str, strings: bool) -> Result<Read> {
+        self.dataset_with(group, name, shown, strings, |_| Ok(Take::All))?
+            .ok_or_else(|| self.array_err(shown, "was not read"))
+    }
+
+    /// [`Reader::dataset`], reading what `take` picks from the dataset's shape (checking it):
+    /// all of it, a run of rows (for a temporal step: only those rows are decoded) or nothing.
+    fn dataset_with(
         &self,
-        group: &hdf5_reader::group::Group,
+        group: &Group,
         name: &str,
         shown: &str,
         strings: bool,
-    ) -> Result<Read> {
+        take: impl FnOnce(&[u64]) -> Result<Take>,
+    ) -> Result<Option<Read>> {
         let place = Place::Array(shown.to_string());
         let ds = guarded(self.path, &place, || group.dataset(name))?;
         let shape = ds.shape().to_vec();
@@ -347,22 +357,39 @@ impl<'a> Reader<'a> {
                     format!("holds strings in shape {shape:?}; only 1-D string arrays are read"),
                 ));
             }
+        } else if decode(&[], &dtype).is_none() {
+            return Err(self.array_err(
+                shown,
+                format!("holds {}, not numbers tetkit reads", type_words(&dtype)),
+            ));
+        }
+        let (start, count) = match take(&shape)? {
+            Take::Nothing => return Ok(None),
+            Take::All => (0, shape.first().copied().unwrap_or(1)),
+            Take::Rows(start, count) => (start, count),
+        };
+        let whole = start == 0 && shape.first().map_or(true, |&rows| rows == count);
+        if is_string(&dtype) {
             let s = guarded(self.path, &place, || ds.read_strings())?;
             if s.len() as u64 != n {
                 return Err(
                     self.array_err(shown, format!("{} strings read, {n} expected", s.len()))
                 );
             }
-            return Ok(Read {
+            let data = ArrayData::String(s.iter().map(|x| unpad(x).to_string()).collect());
+            let mut shape = shape;
+            if let Some(rows) = shape.first_mut() {
+                *rows = count;
+            }
+            return Ok(Some(Read {
                 shape,
-                data: ArrayData::String(s.iter().map(|x| unpad(x).to_string()).collect()),
-            });
+                data: data.into_rows(1, start as usize, count as usize),
+            }));
         }
-        if decode(&[], &dtype).is_none() {
-            return Err(self.array_err(
-                shown,
-                format!("holds {}, not numbers tetkit reads", type_words(&dtype)),
-            ));
+        if !whole {
+            return self
+                .rows_of(&ds, &place, shape, &dtype, start, count)
+                .map(Some);
         }
         let raw = guarded(self.path, &place, || ds.read_raw_bytes())?;
         if raw.len() as u64 != n.saturating_mul(elem) {
@@ -381,22 +408,98 @@ impl<'a> Reader<'a> {
                 format!("holds {}, not numbers tetkit reads", type_words(&dtype)),
             )
         })?;
+        Ok(Some(Read { shape, data }))
+    }
+
+    /// Rows `start .. start + count` (within the dataset, checked by the caller's `take`) of a
+    /// numeric dataset of `shape` and `dtype`, decoded alone (a hyperslab read).
+    fn rows_of(
+        &self,
+        ds: &hdf5_reader::Dataset,
+        place: &Place,
+        mut shape: Vec<u64>,
+        dtype: &Datatype,
+        start: u64,
+        count: u64,
+    ) -> Result<Read> {
+        let rows = shape.first().copied().unwrap_or(0);
+        if !start.checked_add(count).is_some_and(|end| end <= rows) {
+            return Err(FormatError::new(
+                place.clone(),
+                format!(
+                    "rows {start} to {} asked of {rows}",
+                    start.saturating_add(count)
+                ),
+            )
+            .with_file(self.path));
+        }
+        if let Some(r) = shape.first_mut() {
+            *r = count;
+        }
+        let ty = decode(&[], dtype)
+            .and_then(|d| d.scalar_type())
+            .ok_or_else(|| FormatError::new(place.clone(), "not numbers").with_file(self.path))?;
+        if count == 0 {
+            return Ok(Read {
+                shape,
+                data: ArrayData::with_capacity(ty, 0),
+            });
+        }
+        let mut sel = SliceInfo::all(shape.len());
+        sel.selections[0] = SliceInfoElem::Slice {
+            start,
+            end: start + count,
+            step: 1,
+        };
+        fn get<T: hdf5_reader::H5Type>(
+            ds: &hdf5_reader::Dataset,
+            sel: &SliceInfo,
+        ) -> std::result::Result<Vec<T>, hdf5_reader::error::Error> {
+            Ok(ds.read_slice::<T>(sel)?.into_iter().collect())
+        }
+        let data = guarded(self.path, place, || {
+            Ok(match ty {
+                ScalarType::Int8 => ArrayData::Int8(get(ds, &sel)?),
+                ScalarType::UInt8 => ArrayData::UInt8(get(ds, &sel)?),
+                ScalarType::Int16 => ArrayData::Int16(get(ds, &sel)?),
+                ScalarType::UInt16 => ArrayData::UInt16(get(ds, &sel)?),
+                ScalarType::Int32 => ArrayData::Int32(get(ds, &sel)?),
+                ScalarType::UInt32 => ArrayData::UInt32(get(ds, &sel)?),
+                ScalarType::Int64 => ArrayData::Int64(get(ds, &sel)?),
+                ScalarType::UInt64 => ArrayData::UInt64(get(ds, &sel)?),
+                ScalarType::Float32 => ArrayData::Float32(get(ds, &sel)?),
+                ScalarType::Float64 => ArrayData::Float64(get(ds, &sel)?),
+            })
+        })?;
+        let want = shape.iter().product::<u64>();
+        if data.len() as u64 != want {
+            return Err(FormatError::new(
+                place.clone(),
+                format!("{} values read, {want} expected", data.len()),
+            )
+            .with_file(self.path));
+        }
         Ok(Read { shape, data })
     }
 
     /// A 1-D integer dataset of `/VTKHDF` of `len` entries (any length when `None`), as i64.
     fn ints(&self, name: &str, len: Option<u64>) -> Result<Vec<i64>> {
-        let r = self.dataset(&self.group, name, name, false)?;
-        if r.shape.len() != 1 {
-            return Err(self.array_err(name, format!("has shape {:?}, expected 1-D", r.shape)));
-        }
-        if let Some(len) = len {
-            if r.shape[0] != len {
-                return Err(
-                    self.array_err(name, format!("has {} entries, expected {len}", r.shape[0]))
-                );
+        self.ints_with(name, |rows| match len {
+            Some(len) if rows != len => {
+                Err(self.array_err(name, format!("has {rows} entries, expected {len}")))
             }
-        }
+            _ => Ok(Take::All),
+        })
+    }
+
+    /// A 1-D integer dataset of `/VTKHDF`, what `take` picks from its length, as i64.
+    fn ints_with(&self, name: &str, take: impl FnOnce(u64) -> Result<Take>) -> Result<Vec<i64>> {
+        let r = self
+            .dataset_with(&self.group, name, name, false, |shape| match shape {
+                [rows] => take(*rows),
+                s => Err(self.array_err(name, format!("has shape {s:?}, expected 1-D"))),
+            })?
+            .ok_or_else(|| self.array_err(name, "was not read"))?;
         let ty = r.data.type_name();
         r.data.into_i64().map_err(|_| {
             self.array_err(
@@ -513,31 +616,33 @@ impl<'a> Reader<'a> {
         let mut out = Vec::with_capacity(names.len());
         for name in names {
             let shown = format!("{gname}/{name}");
-            let r = self.dataset(&g, &name, &shown, field)?;
-            let components = match r.shape.as_slice() {
-                [_] => 1,
-                [_, c] => *c,
-                s => {
-                    return Err(self.array_err(
-                        &shown,
-                        format!("has shape {s:?}; arrays are 1-D or 2-D (tuples x components)"),
-                    ))
+            let mut components = 1;
+            let picked = self.dataset_with(&g, &name, &shown, field, |shape| {
+                let (c, total) = match shape {
+                    [t] => (1, *t),
+                    [t, c] => (*c, *t),
+                    s => {
+                        return Err(self.array_err(
+                            &shown,
+                            format!("has shape {s:?}; arrays are 1-D or 2-D (tuples x components)"),
+                        ))
+                    }
+                };
+                if c == 0 {
+                    return Err(self.array_err(&shown, "has 0 components"));
                 }
-            };
-            if components == 0 {
-                return Err(self.array_err(&shown, "has 0 components"));
-            }
-            let total = r.shape[0];
-            let Some((start, count)) =
-                self.array_rows(&name, &shown, rows, total, components, w)?
-            else {
+                components = c;
+                Ok(match self.array_rows(&name, &shown, rows, total, c, w)? {
+                    None => Take::Nothing,
+                    Some((start, count)) => Take::Rows(start, count),
+                })
+            })?;
+            let Some(r) = picked else {
                 continue;
             };
             let components = usize::try_from(components)
                 .map_err(|_| self.array_err(&shown, "has too many components"))?;
-            // Both fit in usize: they lie within the `total` tuples just read.
-            let data = r.data.into_rows(components, start as usize, count as usize);
-            out.push(DataArray::new(name, components, data));
+            out.push(DataArray::new(name, components, r.data));
         }
         // Active attributes, when the group names them as VTK XML does (`Scalars="name"`).
         if !field {
@@ -739,6 +844,14 @@ impl Window {
     }
 }
 
+/// What [`Reader::dataset_with`] reads of a dataset.
+enum Take {
+    All,
+    /// Rows `start, count`.
+    Rows(u64, u64),
+    Nothing,
+}
+
 /// Which tuples of each array of a group a read takes.
 #[derive(Clone, Copy)]
 enum Rows<'a> {
@@ -832,27 +945,31 @@ fn read_grid(r: &Reader, w: &Window) -> Result<Grid> {
         ))
     };
 
-    let points = r.dataset(&r.group, "Points", "Points", false)?;
-    match points.shape.as_slice() {
-        [rows, 3] => window("Points", *rows, w.point0, np_total, "rows")?,
-        s => {
-            return Err(r.array_err(
+    let points = r
+        .dataset_with(&r.group, "Points", "Points", false, |shape| match shape {
+            [rows, 3] => {
+                window("Points", *rows, w.point0, np_total, "rows")?;
+                Ok(Take::Rows(w.point0, np_total))
+            }
+            s => Err(r.array_err(
                 "Points",
                 format!("has shape {s:?}, expected [{np_total}, 3] (NumberOfPoints x 3)"),
-            ))
-        }
-    }
-    let types = r.dataset(&r.group, "Types", "Types", false)?;
-    match types.shape.as_slice() {
-        [rows] => window("Types", *rows, w.cell0, nc_total, "entries")?,
-        s => {
-            return Err(r.array_err(
+            )),
+        })?
+        .ok_or_else(|| r.array_err("Points", "was not read"))?;
+    let types = r
+        .dataset_with(&r.group, "Types", "Types", false, |shape| match shape {
+            [rows] => {
+                window("Types", *rows, w.cell0, nc_total, "entries")?;
+                Ok(Take::Rows(w.cell0, nc_total))
+            }
+            s => Err(r.array_err(
                 "Types",
                 format!("has shape {s:?}, expected [{nc_total}] (one per cell)"),
-            ))
-        }
-    }
-    let types = types.data.into_rows(1, w.cell0 as usize, nc_total as usize);
+            )),
+        })?
+        .ok_or_else(|| r.array_err("Types", "was not read"))?
+        .data;
     let types: Vec<u8> = match types {
         ArrayData::UInt8(v) => v,
         other => {
@@ -872,24 +989,14 @@ fn read_grid(r: &Reader, w: &Window) -> Result<Grid> {
     // Each part's offsets have one entry more than its cells: the step's start past those of
     // the parts before it, as VTK's reader counts.
     let off0 = w.cell0.saturating_add(part0);
-    let offsets = r.ints("Offsets", (!temporal).then_some(nc_total + pieces))?;
-    window(
-        "Offsets",
-        offsets.len() as u64,
-        off0,
-        nc_total + pieces,
-        "entries",
-    )?;
-    let offsets = &offsets[off0 as usize..(off0 + nc_total + pieces) as usize];
-    let conn = r.ints("Connectivity", (!temporal).then_some(nconn_total))?;
-    window(
-        "Connectivity",
-        conn.len() as u64,
-        w.conn0,
-        nconn_total,
-        "entries",
-    )?;
-    let conn = &conn[w.conn0 as usize..(w.conn0 + nconn_total) as usize];
+    let offsets = r.ints_with("Offsets", |rows| {
+        window("Offsets", rows, off0, nc_total + pieces, "entries")?;
+        Ok(Take::Rows(off0, nc_total + pieces))
+    })?;
+    let conn = r.ints_with("Connectivity", |rows| {
+        window("Connectivity", rows, w.conn0, nconn_total, "entries")?;
+        Ok(Take::Rows(w.conn0, nconn_total))
+    })?;
 
     // Join the pieces: each piece's offsets start at 0 and its ids count its own points.
     let mut cells = Cells {
@@ -1016,11 +1123,8 @@ fn read_grid(r: &Reader, w: &Window) -> Result<Grid> {
             field_data.push(DataArray::new("Time", 1, ArrayData::Float64(vec![*t])));
         }
     }
-    let points = points
-        .data
-        .into_rows(3, w.point0 as usize, np_total as usize);
     Ok(Grid {
-        points: DataArray::new("Points", 3, points),
+        points: DataArray::new("Points", 3, points.data),
         cells,
         point_data,
         cell_data,

@@ -160,6 +160,14 @@ fn each_temporal_step_reads_as_its_static_file_with_its_time() -> TestResult {
     assert_ne!(pd(&two, "velocity"), pd(&three, "velocity"));
     assert!(two.field_data.iter().all(|a| a.name != "history"));
     assert_eq!(array(&three.field_data, "history").tuples(), 4);
+    // Deflated in chunks of 4 rows: each step's rows are decoded from the chunks they cross.
+    for k in 0..times.len() {
+        assert_eq!(
+            read_step("temporal_gzip.vtkhdf", Some(k))?,
+            read_step("temporal.vtkhdf", Some(k))?,
+            "step {k}"
+        );
+    }
     // The same bytes owned or borrowed.
     let p = fixture("temporal.vtkhdf");
     let bytes = std::fs::read(&p)?;
@@ -258,22 +266,28 @@ fn other_files_are_refused_by_what_they_are() -> TestResult {
 
 #[test]
 fn truncations_and_flipped_bytes_give_errors_not_panics() -> TestResult {
-    let p = fixture("mixed.vtkhdf");
-    let bytes = std::fs::read(&p)?;
-    let whole = read_from(&bytes, &p)?;
-    // A cut that leaves every byte the file uses (HDF5 files can end in unused space) reads the
-    // same grid; any other is an error naming the file.
-    for cut in (0..bytes.len()).step_by(97) {
-        match read_from(&bytes[..cut], &p) {
-            Ok(g) => assert_eq!(g, whole, "cut at {cut}"),
-            Err(e) => assert!(e.to_string().contains("mixed.vtkhdf"), "{e}"),
+    // A static file, and the last step of a temporal one (deflated, read by hyperslabs).
+    for (name, sel) in [
+        ("mixed.vtkhdf", Selector::Index(0)),
+        ("temporal_gzip.vtkhdf", Selector::Last),
+    ] {
+        let p = fixture(name);
+        let bytes = std::fs::read(&p)?;
+        let whole = read_from_at(&bytes, &p, sel)?;
+        // A cut that leaves every byte the file uses (HDF5 files can end in unused space)
+        // reads the same grid; any other is an error naming the file.
+        for cut in (0..bytes.len()).step_by(97) {
+            match read_from_at(&bytes[..cut], &p, sel) {
+                Ok(g) => assert_eq!(g, whole, "{name}: cut at {cut}"),
+                Err(e) => assert!(e.to_string().contains(name), "{e}"),
+            }
         }
-    }
-    for at in (0..bytes.len()).step_by(13) {
-        let mut b = bytes.clone();
-        b[at] ^= 0x5a;
-        if let Err(e) = read_from(&b, &p) {
-            assert!(e.to_string().contains("mixed.vtkhdf"), "{e}");
+        for at in (0..bytes.len()).step_by(13) {
+            let mut b = bytes.clone();
+            b[at] ^= 0x5a;
+            if let Err(e) = read_from_at(&b, &p, sel) {
+                assert!(e.to_string().contains(name), "{e}");
+            }
         }
     }
     Ok(())
