@@ -128,6 +128,26 @@ macro_rules! with_numeric {
     };
 }
 
+/// Builds an array of the same variant (strings included) from the vector inside `$data`,
+/// bound to `$v`: `$body` is generic over the element type.
+macro_rules! map_values {
+    ($data:expr, $v:ident => $body:expr) => {
+        match $data {
+            ArrayData::Int8($v) => ArrayData::Int8($body),
+            ArrayData::UInt8($v) => ArrayData::UInt8($body),
+            ArrayData::Int16($v) => ArrayData::Int16($body),
+            ArrayData::UInt16($v) => ArrayData::UInt16($body),
+            ArrayData::Int32($v) => ArrayData::Int32($body),
+            ArrayData::UInt32($v) => ArrayData::UInt32($body),
+            ArrayData::Int64($v) => ArrayData::Int64($body),
+            ArrayData::UInt64($v) => ArrayData::UInt64($body),
+            ArrayData::Float32($v) => ArrayData::Float32($body),
+            ArrayData::Float64($v) => ArrayData::Float64($body),
+            ArrayData::String($v) => ArrayData::String($body),
+        }
+    };
+}
+
 /// Numeric element types that arrays hold, with lossless-enough conversion to f64 for ranges and
 /// interpolation.
 pub trait Element: Copy + Send + Sync + 'static {
@@ -296,19 +316,7 @@ impl ArrayData {
             start.saturating_mul(components),
             start.saturating_add(count).saturating_mul(components),
         );
-        match self {
-            ArrayData::Int8(v) => ArrayData::Int8(cut(v, a, b)),
-            ArrayData::UInt8(v) => ArrayData::UInt8(cut(v, a, b)),
-            ArrayData::Int16(v) => ArrayData::Int16(cut(v, a, b)),
-            ArrayData::UInt16(v) => ArrayData::UInt16(cut(v, a, b)),
-            ArrayData::Int32(v) => ArrayData::Int32(cut(v, a, b)),
-            ArrayData::UInt32(v) => ArrayData::UInt32(cut(v, a, b)),
-            ArrayData::Int64(v) => ArrayData::Int64(cut(v, a, b)),
-            ArrayData::UInt64(v) => ArrayData::UInt64(cut(v, a, b)),
-            ArrayData::Float32(v) => ArrayData::Float32(cut(v, a, b)),
-            ArrayData::Float64(v) => ArrayData::Float64(cut(v, a, b)),
-            ArrayData::String(v) => ArrayData::String(cut(v, a, b)),
-        }
+        map_values!(self, v => cut(v, a, b))
     }
 
     /// Tuples `idx[k]` (of `components` values each), in that order.
@@ -320,19 +328,7 @@ impl ArrayData {
             }
             out
         }
-        match self {
-            ArrayData::Int8(v) => ArrayData::Int8(g(v, components, idx)),
-            ArrayData::UInt8(v) => ArrayData::UInt8(g(v, components, idx)),
-            ArrayData::Int16(v) => ArrayData::Int16(g(v, components, idx)),
-            ArrayData::UInt16(v) => ArrayData::UInt16(g(v, components, idx)),
-            ArrayData::Int32(v) => ArrayData::Int32(g(v, components, idx)),
-            ArrayData::UInt32(v) => ArrayData::UInt32(g(v, components, idx)),
-            ArrayData::Int64(v) => ArrayData::Int64(g(v, components, idx)),
-            ArrayData::UInt64(v) => ArrayData::UInt64(g(v, components, idx)),
-            ArrayData::Float32(v) => ArrayData::Float32(g(v, components, idx)),
-            ArrayData::Float64(v) => ArrayData::Float64(g(v, components, idx)),
-            ArrayData::String(v) => ArrayData::String(g(v, components, idx)),
-        }
+        map_values!(self, v => g(v, components, idx))
     }
 
     /// Appends one tuple per `(a, b, t)`: `(1 - t) * tuple[a] + t * tuple[b]`, computed in f64 and
