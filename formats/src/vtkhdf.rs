@@ -52,12 +52,16 @@ pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
     crate::pvd::split_step(path, has_extension)
 }
 
-/// The times of a temporal file's steps (`Steps/Values`); empty for a static file.
+/// The times of a temporal file's steps (`Steps/Values`); empty for a static file. Only the
+/// structures on the way to `Steps/Values` are read from the file, not the whole of it (a listing
+/// after the grid was read should not read the file twice).
 pub fn times(path: &Path) -> Result<Vec<f64>> {
-    let bytes = std::fs::read(path).map_err(|e| FormatError::io(path, e))?;
-    let (options, max_read) = options_for(&bytes, path)?;
-    let file = guarded(path, &Place::File, move || {
-        Hdf5File::from_vec_with_options(bytes, options)
+    let len = std::fs::metadata(path)
+        .map_err(|e| FormatError::io(path, e))?
+        .len();
+    let (options, max_read) = bounds(len);
+    let file = guarded(path, &Place::File, || {
+        Hdf5File::open_with_options(path, options)
     })?;
     let r = open(file, path, max_read)?;
     if !r.has_member("Steps")? {
@@ -701,16 +705,19 @@ fn options_for(bytes: &[u8], path: &Path) -> Result<(OpenOptions, u64)> {
                 .with_file(path),
         );
     }
-    let max_read = (bytes.len() as u64)
-        .saturating_mul(MAX_EXPANSION)
-        .max(1 << 20);
+    Ok(bounds(bytes.len() as u64))
+}
+
+/// The HDF5 reader's bounds for a file of `len` bytes: what one read may decode.
+fn bounds(len: u64) -> (OpenOptions, u64) {
+    let max_read = len.saturating_mul(MAX_EXPANSION).max(1 << 20);
     let limit = usize::try_from(max_read).unwrap_or(usize::MAX);
     let options = OpenOptions {
         max_read_bytes: limit,
         max_chunk_bytes: limit.min(hdf5_reader::DEFAULT_MAX_CHUNK_BYTES),
         ..OpenOptions::default()
     };
-    Ok((options, max_read))
+    (options, max_read)
 }
 
 /// The `/VTKHDF` group of an opened file, after checking its `Type` and `Version`.
