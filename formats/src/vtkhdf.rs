@@ -254,22 +254,13 @@ impl<'a> Reader<'a> {
     /// entries, or `n` rows of which the first column is taken (an UnstructuredGrid's
     /// `CellOffsets` may be `n x 1`; PolyData's have a column per cell kind).
     fn step_ints(&self, group: &Group, name: &str, shown: &str, n: u64) -> Result<Vec<i64>> {
-        let r = self.dataset(group, name, shown, false)?;
-        let cols = match r.shape.as_slice() {
-            [rows] if *rows == n => 1,
-            [rows, c] if *rows == n && *c >= 1 => *c as usize,
-            s => {
-                return Err(self.array_err(
-                    shown,
-                    format!("has shape {s:?}, expected {n} entries (one per time step)"),
-                ))
-            }
-        };
-        let ty = r.data.type_name();
-        let v = r
-            .data
-            .into_i64()
-            .map_err(|_| self.array_err(shown, format!("holds {ty} values, expected integers")))?;
+        let (v, rows, cols) = self.int_table(group, name, shown)?;
+        if rows != n {
+            return Err(self.array_err(
+                shown,
+                format!("has {rows} rows, expected {n} (one per time step)"),
+            ));
+        }
         Ok(v.into_iter().step_by(cols).collect())
     }
 
@@ -291,24 +282,33 @@ impl<'a> Reader<'a> {
             return Ok(None);
         }
         let shown = format!("Steps/{kind}/{name}");
-        let r = self.dataset(&g, name, &shown, false)?;
-        let (rows, cols) = match r.shape.as_slice() {
-            [n] => (*n, 1),
-            [n, c] => (*n, *c),
-            s => {
-                return Err(self.array_err(&shown, format!("has shape {s:?}, expected 1-D or 2-D")))
-            }
-        };
-        if *k as u64 >= rows || cols == 0 {
+        let (v, rows, cols) = self.int_table(&g, name, &shown)?;
+        if *k as u64 >= rows {
             return Err(self.array_err(&shown, format!("has {rows} rows, none for time step {k}")));
         }
+        Ok(Some(v[*k * cols..(*k + 1) * cols].to_vec()))
+    }
+
+    /// An integer dataset of 1 or 2 dimensions (shown as `shown`): its values, rows and
+    /// columns (at least one).
+    fn int_table(&self, group: &Group, name: &str, shown: &str) -> Result<(Vec<i64>, u64, usize)> {
+        let r = self.dataset(group, name, shown, false)?;
+        let (rows, cols) = match r.shape.as_slice() {
+            [n] => (*n, 1),
+            [n, c] if *c >= 1 => (*n, *c as usize),
+            s => {
+                return Err(self.array_err(
+                    shown,
+                    format!("has shape {s:?}, expected 1-D or rows x columns"),
+                ))
+            }
+        };
         let ty = r.data.type_name();
         let v = r
             .data
             .into_i64()
-            .map_err(|_| self.array_err(&shown, format!("holds {ty} values, expected integers")))?;
-        let cols = cols as usize;
-        Ok(Some(v[*k * cols..(*k + 1) * cols].to_vec()))
+            .map_err(|_| self.array_err(shown, format!("holds {ty} values, expected integers")))?;
+        Ok((v, rows, cols))
     }
 
     /// Reads dataset `name` of `group` (shown as `shown` in messages) whole, as numbers, or as
@@ -792,10 +792,7 @@ impl Steps {
     /// Where step `sel` lies.
     fn window(self, r: &Reader, sel: Selector) -> Result<Window> {
         let n = self.values.len();
-        let k = match sel {
-            Selector::Index(k) => k,
-            Selector::Last => n.saturating_sub(1),
-        };
+        let k = sel.index_of(n);
         if k >= n {
             return Err(r.err(
                 "group /VTKHDF/Steps",

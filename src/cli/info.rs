@@ -111,39 +111,32 @@ fn print_arrays(title: &str, arrays: &[DataArray], attrs: Option<&Attributes>) {
 /// `FILE.exo@K`, `FILE.vtkhdf@K`) and the one read, else `None` (also for an Exodus or VTKHDF
 /// file without steps). Exodus and VTKHDF steps name no files.
 fn time_steps(input: &Path) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
-    let hdf = match formats::vtkhdf::split_selector(input) {
-        Some(fs) => Some(fs),
-        None if formats::Format::from_path(input).ok() == Some(formats::Format::VtkHdf) => {
-            Some((input.to_path_buf(), pvd::Selector::Index(0)))
-        }
-        None => None,
-    };
-    if let Some((file, sel)) = hdf {
-        return Ok(timed_steps(formats::vtkhdf::times(&file)?, sel));
+    use formats::{vtkhdf, Format};
+    if let Some((file, sel)) = selected(input, vtkhdf::split_selector, Format::VtkHdf) {
+        return Ok(timed_steps(vtkhdf::times(&file)?, sel));
     }
-    let exodus = match exodus::split_selector(input) {
-        Some(fs) => Some(fs),
-        None if formats::Format::from_path(input).ok() == Some(formats::Format::Exodus) => {
-            Some((input.to_path_buf(), pvd::Selector::Index(0)))
-        }
-        None => None,
-    };
-    if let Some((file, sel)) = exodus {
+    if let Some((file, sel)) = selected(input, exodus::split_selector, Format::Exodus) {
         return Ok(timed_steps(exodus::times(&file)?, sel));
     }
-    let (file, sel) = match pvd::split_selector(input) {
-        Some((f, s)) => (f, s),
-        None if formats::Format::from_path(input).ok() == Some(formats::Format::Pvd) => {
-            (input.to_path_buf(), pvd::Selector::Index(0))
-        }
-        None => return Ok(None),
+    let Some((file, sel)) = selected(input, pvd::split_selector, Format::Pvd) else {
+        return Ok(None);
     };
     let steps = pvd::steps(&file)?;
-    let k = match sel {
-        pvd::Selector::Index(k) => k,
-        pvd::Selector::Last => steps.len() - 1,
-    };
+    let k = sel.index_of(steps.len());
     Ok(Some((steps, k)))
+}
+
+/// `FILE@K` split by `split`, or a plain `FILE` of `format` as its step 0; `None` for other
+/// inputs.
+fn selected(
+    input: &Path,
+    split: fn(&Path) -> Option<(PathBuf, pvd::Selector)>,
+    format: formats::Format,
+) -> Option<(PathBuf, pvd::Selector)> {
+    split(input).or_else(|| {
+        (formats::Format::from_path(input).ok() == Some(format))
+            .then(|| (input.to_path_buf(), pvd::Selector::Index(0)))
+    })
 }
 
 /// Steps that name no files (Exodus, VTKHDF) from their times, and the one `sel` reads; `None`
@@ -152,10 +145,7 @@ fn timed_steps(times: Vec<f64>, sel: pvd::Selector) -> Option<(Vec<pvd::Step>, u
     if times.is_empty() {
         return None;
     }
-    let k = match sel {
-        pvd::Selector::Index(k) => k,
-        pvd::Selector::Last => times.len() - 1,
-    };
+    let k = sel.index_of(times.len());
     let steps = times
         .into_iter()
         .map(|t| pvd::Step {

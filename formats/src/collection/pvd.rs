@@ -31,6 +31,16 @@ pub enum Selector {
     Last,
 }
 
+impl Selector {
+    /// The 0-based step this selects of `n` steps (`Last` of none is 0; an index is not checked).
+    pub fn index_of(self, n: usize) -> usize {
+        match self {
+            Selector::Index(k) => k,
+            Selector::Last => n.saturating_sub(1),
+        }
+    }
+}
+
 /// Splits `FILE.pvd@K` / `FILE.pvd@last` into the file and the step; `None` for any other path.
 pub fn split_selector(path: &Path) -> Option<(PathBuf, Selector)> {
     split_step(path, |file| {
@@ -159,7 +169,7 @@ pub fn read_step(path: &Path, index: usize) -> Result<Grid> {
 pub fn read_selected(path: &Path, sel: Selector) -> Result<Grid> {
     let index = match sel {
         Selector::Index(k) => k,
-        Selector::Last => steps(path)?.len() - 1,
+        Selector::Last => sel.index_of(steps(path)?.len()),
     };
     read_step(path, index)
 }
