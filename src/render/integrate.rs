@@ -708,7 +708,9 @@ impl PreintTable {
     }
 
     /// Trilinear blend of the eight entries from `base` (`(il * ns + ib) * ns + if_` with
-    /// `il <= nl - 2`, `ib, if_ <= ns - 2`) with weights along (Sf, Sb, l).
+    /// `il <= nl - 2`, `ib, if_ <= ns - 2`) with weights along (Sf, Sb, l): along Sb, then l,
+    /// then Sf, so that the two entries side by side in memory (`if_` and `if_ + 1`) are
+    /// blended together last (the explicit-SIMD lookup holds them in one register).
     #[inline(always)]
     pub fn corners(&self, base: usize, tf: f32, tb: f32, tl: f32) -> [f32; 4] {
         let ns = self.ns;
@@ -716,18 +718,16 @@ impl PreintTable {
         let d = &self.data[base..base + ns * ns + ns + 2];
         // SAFETY: every index below is at most `ns * ns + ns + 1`, inside `d`.
         let at = |k: usize| unsafe { *d.get_unchecked(k) };
-        let (o0, o1) = (0, ns * ns);
-        let p0 = lerp4(
-            lerp4(at(o0), at(o0 + 1), tf),
-            lerp4(at(o0 + ns), at(o0 + ns + 1), tf),
-            tb,
-        );
-        let p1 = lerp4(
-            lerp4(at(o1), at(o1 + 1), tf),
-            lerp4(at(o1 + ns), at(o1 + ns + 1), tf),
-            tb,
-        );
-        lerp4(p0, p1, tl)
+        let o1 = ns * ns;
+        // Entry `if_ + e` blended along Sb and then l.
+        let side = |e: usize| {
+            lerp4(
+                lerp4(at(e), at(e + ns), tb),
+                lerp4(at(o1 + e), at(o1 + ns + e), tb),
+                tl,
+            )
+        };
+        lerp4(side(0), side(1), tf)
     }
 }
 
@@ -1003,17 +1003,15 @@ mod tests {
         let ns = t.ns;
         let d = &t.data;
         let at = |k: usize, j: usize, i: usize| d[(k * ns + j) * ns + i];
-        let p0 = lerp4(
-            lerp4(at(k, j, i), at(k, j, i + 1), wf),
-            lerp4(at(k, j + 1, i), at(k, j + 1, i + 1), wf),
-            wb,
-        );
-        let p1 = lerp4(
-            lerp4(at(k + 1, j, i), at(k + 1, j, i + 1), wf),
-            lerp4(at(k + 1, j + 1, i), at(k + 1, j + 1, i + 1), wf),
-            wb,
-        );
-        lerp4(p0, p1, wl)
+        // Along Sb, then l, then Sf (the order `corners` documents).
+        let side = |i: usize| {
+            lerp4(
+                lerp4(at(k, j, i), at(k, j + 1, i), wb),
+                lerp4(at(k + 1, j, i), at(k + 1, j + 1, i), wb),
+                wl,
+            )
+        };
+        lerp4(side(i), side(i + 1), wf)
     }
 
     #[test]

@@ -128,7 +128,8 @@ unsafe fn flush<S: Shade>(
             _mm256_cvtepu32_epi64(_mm256_extracti128_si256::<1>(b.at)),
         );
     }
-    shade.composite(&f, &at, n, buf, d);
+    // SAFETY: the CPU has AVX2 (the caller's promise).
+    unsafe { shade.composite_avx2(&f, &at, n, buf, d) };
 }
 
 /// `Draw::rows` in explicit AVX2.

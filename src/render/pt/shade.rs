@@ -96,6 +96,24 @@ pub(crate) trait Shade {
     ) {
         composite_lanes(self, f, at, n, buf, d)
     }
+
+    /// [`Shade::composite`] as the explicit-SIMD rows call it: inlined there, so a shade with
+    /// an AVX2 path of its own runs it without a call or a feature check.
+    ///
+    /// # Safety
+    /// The CPU has AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn composite_avx2(
+        &self,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        self.composite(f, at, n, buf, d)
+    }
 }
 
 /// [`Shade::composite`] one lane at a time: the definition every faster path matches bit for bit.
@@ -199,12 +217,29 @@ impl Shade for PreintTable {
         }
         composite_lanes(self, f, at, n, buf, d)
     }
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn composite_avx2(
+        &self,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        if x86::fits(self) {
+            // SAFETY: the CPU has AVX2 (the caller's promise) and the table fits.
+            unsafe { x86::composite_pre_body(self, f, at, n, buf, d) };
+            return;
+        }
+        composite_lanes(self, f, at, n, buf, d)
+    }
 }
 
-/// The pre-integrated lookup and composite in explicit AVX2: two fragments a register (one per
-/// 128-bit half, RGBA in its four floats), so each trilinear step is three instructions for
-/// both, and two pixels composite at once. Every operation is the scalar path's, in its order,
-/// on the same operands: the same bits.
+/// The pre-integrated lookup and composite in explicit AVX2: a fragment's entries `if_` and
+/// `if_ + 1` (adjacent in the table) are one 32-byte load, RGBA in each half, so its four such
+/// pairs blend along Sb and l in three steps for both and the halves blend along Sf last. Every
+/// operation is the scalar path's, in its order, on the same operands: the same bits.
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::{Drawn, Lanes, LANES, OPAQUE};
@@ -222,16 +257,14 @@ mod x86 {
     }
 
     /// `a + t (b - a)`, each lane as [`PreintTable::corners`] computes it.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn lerp(a: __m256, b: __m256, t: __m256) -> __m256 {
+    #[inline(always)]
+    unsafe fn lerp(a: __m256, b: __m256, t: __m256) -> __m256 {
         _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a)))
     }
 
     /// `x.max(0.0).min(hi)` as the scalar path computes it (NaN becomes 0, -0 stays -0).
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn clamp0(x: __m256, hi: __m256) -> __m256 {
+    #[inline(always)]
+    unsafe fn clamp0(x: __m256, hi: __m256) -> __m256 {
         let m = _mm256_and_ps(
             _mm256_max_ps(_mm256_setzero_ps(), x),
             _mm256_cmp_ps::<_CMP_ORD_Q>(x, x),
@@ -239,29 +272,32 @@ mod x86 {
         _mm256_min_ps(hi, m)
     }
 
-    /// The two 16-byte entries at `p` and `q` as the low and high half of one register.
-    ///
-    /// # Safety
-    /// `p` and `q` each point to 16 readable bytes.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    unsafe fn pair(p: *const [f32; 4], q: *const [f32; 4]) -> __m256 {
-        // SAFETY: the caller's promise.
-        unsafe {
-            _mm256_insertf128_ps::<1>(
-                _mm256_castps128_ps256(_mm_loadu_ps(p.cast())),
-                _mm_loadu_ps(q.cast()),
-            )
-        }
-    }
-
-    /// [`super::composite_lanes`] for a [`PreintTable`], two lanes at a time.
+    /// [`super::composite_lanes`] for a [`PreintTable`].
     ///
     /// # Safety
     /// The CPU has AVX2, and [`fits`] holds for `t`.
     #[inline]
     #[target_feature(enable = "avx2")]
     pub(super) unsafe fn composite_pre(
+        t: &PreintTable,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        // SAFETY: the caller's promise.
+        unsafe { composite_pre_body(t, f, at, n, buf, d) }
+    }
+
+    /// [`composite_pre`] with no instruction set of its own: inlined into a caller that has
+    /// AVX2 (the explicit-SIMD rows), the fragments go from the rows' registers to the lookup
+    /// without a call.
+    ///
+    /// # Safety
+    /// As [`composite_pre`].
+    #[inline(always)]
+    pub(super) unsafe fn composite_pre_body(
         t: &PreintTable,
         f: &Lanes,
         at: &[usize; LANES],
@@ -300,100 +336,62 @@ mod x86 {
             a,
         );
         let mut bases = [0i32; LANES];
-        // SAFETY: `bases` holds 8 `i32`.
-        unsafe { _mm256_storeu_si256(bases.as_mut_ptr().cast(), base) };
-
+        let (mut ws, mut wt, mut wu) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        // SAFETY: `bases` holds 8 `i32`, each weight array 8 floats.
+        unsafe {
+            _mm256_storeu_si256(bases.as_mut_ptr().cast(), base);
+            _mm256_storeu_ps(ws.as_mut_ptr(), wf);
+            _mm256_storeu_ps(wt.as_mut_ptr(), wb);
+            _mm256_storeu_ps(wu.as_mut_ptr(), wl);
+        }
         let data = t.data.as_ptr();
         let (o1, o2) = (t.ns, t.ns * t.ns);
-        let opaque = _mm256_set1_ps(OPAQUE);
-        let one = _mm256_set1_ps(1.0);
+        let one = _mm_set1_ps(1.0);
         let out = buf.as_mut_ptr();
-        let n = n.min(LANES);
-        // Drawn and newly opaque lanes, bit 0 and bit 4 of each pair's mask summed as two
-        // counters of one word: kept scalar, they stay off the vector units' critical path (as
-        // `Drawn`'s fields the compiler packed them into a vector register, updated each pair).
+        // Drawn and newly opaque lanes as two counters of one word, kept scalar.
         let mut counts = 0u64;
-        let mut i = 0;
-        while i < n {
-            let j = i + 1;
-            let both = j < n;
-            let (ai, aj) = (at[i], if both { at[j] } else { at[i] });
-            if ai >= buf.len() || aj >= buf.len() {
+        for i in 0..n.min(LANES) {
+            let a = at[i];
+            if a >= buf.len() {
                 // Never: the rasterizer only hands pixels of the tile.
-                i += 2;
                 continue;
             }
-            // SAFETY: `ai` and `aj` are inside `buf`, checked just above.
-            let (pi, pj) = unsafe { (out.add(ai), out.add(aj)) };
-            // SAFETY: `pi` and `pj` point into `buf`.
-            let s = unsafe { pair(pi, pj) };
-            let alpha = _mm256_permute_ps::<0xff>(s);
-            // Lanes whose pixel still takes fragments (NaN included, as `!(a >= OPAQUE)`).
-            let mut live = _mm256_cmp_ps::<_CMP_NGE_UQ>(alpha, opaque);
-            if !both {
-                live = _mm256_blend_ps::<0xf0>(live, _mm256_setzero_ps());
-            }
-            let bits = _mm256_movemask_ps(live);
-            if bits == 0 {
-                i += 2;
+            // SAFETY: `a` is inside `buf`, checked just above.
+            let p = unsafe { out.add(a) };
+            // SAFETY: `p` points into `buf`.
+            let s = unsafe { *p };
+            // `!(alpha >= OPAQUE)`: NaN takes fragments too, as the scalar path.
+            if s[3] >= OPAQUE {
                 continue;
             }
-            // Each half's weights: lane i's in the low half, lane j's in the high one.
-            let idx = _mm256_setr_epi32(
-                i as i32, i as i32, i as i32, i as i32, j as i32, j as i32, j as i32, j as i32,
-            );
-            let tf = _mm256_permutevar8x32_ps(wf, idx);
-            let tb = _mm256_permutevar8x32_ps(wb, idx);
-            let tl = _mm256_permutevar8x32_ps(wl, idx);
-            // SAFETY: every base is `(c ns + b) ns + a` with `a, b` in [0, ns - 2] and `c` in
-            // [0, nl - 2] (clamped above; `fits` makes the products exact in i32), so
-            // `base + ns ns + ns + 1 <= nl ns ns - 1 < data.len()`: every corner read below
-            // lies in the table.
-            let v = unsafe {
-                let qi = data.add(bases[i] as usize);
-                let qj = data.add(bases[j.min(LANES - 1)] as usize);
-                let c = |o: usize| pair(qi.add(o), qj.add(o));
-                let p0 = lerp(lerp(c(0), c(1), tf), lerp(c(o1), c(o1 + 1), tf), tb);
-                let p1 = lerp(
-                    lerp(c(o2), c(o2 + 1), tf),
-                    lerp(c(o2 + o1), c(o2 + o1 + 1), tf),
-                    tb,
-                );
-                lerp(p0, p1, tl)
-            };
-            let v = if long != 0 && (long >> i & 1 != 0 || (both && long >> j & 1 != 0)) {
-                // The scalar path's values for the long lanes, the lookup for the others.
-                let mut h = [[0f32; 4]; 2];
-                // SAFETY: `h` holds 8 floats.
-                unsafe { _mm256_storeu_ps(h.as_mut_ptr().cast(), v) };
-                for (half, lane) in [(0, i), (1, j)] {
-                    if lane < n && long >> lane & 1 != 0 {
-                        h[half] = t.segment(f[0][lane], f[1][lane], f[2][lane]);
-                    }
-                }
-                // SAFETY: as above.
-                unsafe { _mm256_loadu_ps(h.as_ptr().cast()) }
+            let v = if long >> i & 1 != 0 {
+                // SAFETY: 16 bytes.
+                unsafe { _mm_loadu_ps(t.segment(f[0][i], f[1][i], f[2][i]).as_ptr()) }
             } else {
-                v
-            };
-            let k = _mm256_sub_ps(one, alpha);
-            let new = _mm256_blendv_ps(s, _mm256_add_ps(s, _mm256_mul_ps(k, v)), live);
-            let full = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(
-                _mm256_permute_ps::<0xff>(new),
-                opaque,
-            )) & bits;
-            // Low half: drawn lanes; high half: lanes that became opaque (at most 8 a call).
-            let lanes = |m: i32| (m & 1) as u64 + (m >> 4 & 1) as u64;
-            counts += lanes(bits) | lanes(full) << 32;
-            // SAFETY: `pi` and `pj` point into `buf` (distinct pixels, or the same when only
-            // lane i is drawn, whose value is then stored last).
-            unsafe {
-                if both {
-                    _mm_storeu_ps(pj.cast(), _mm256_extractf128_ps::<1>(new));
+                // SAFETY: the base is `(c ns + b) ns + a` with `a, b` in [0, ns - 2] and `c`
+                // in [0, nl - 2] (clamped above; `fits` makes the products exact in i32), so
+                // `base + ns ns + ns + 1 <= nl ns ns - 1 < data.len()`: every pair of
+                // entries read below (from `q + o` to `q + o + 1`) lies in the table.
+                unsafe {
+                    let q = data.add(bases[i] as usize);
+                    let c = |o: usize| _mm256_loadu_ps(q.add(o).cast());
+                    let (tb, tl) = (_mm256_set1_ps(wt[i]), _mm256_set1_ps(wu[i]));
+                    // Entries `a` and `a + 1` side by side: blended along Sb, then l, then
+                    // (the two halves) along Sf, as `PreintTable::corners`.
+                    let v = lerp(lerp(c(0), c(o1), tb), lerp(c(o2), c(o2 + o1), tb), tl);
+                    let (lo, hi) = (_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+                    _mm_add_ps(lo, _mm_mul_ps(_mm_set1_ps(ws[i]), _mm_sub_ps(hi, lo)))
                 }
-                _mm_storeu_ps(pi.cast(), _mm256_castps256_ps128(new));
-            }
-            i += 2;
+            };
+            // SAFETY: 16 bytes each.
+            let sv = unsafe { _mm_loadu_ps(s.as_ptr()) };
+            let new = _mm_add_ps(sv, _mm_mul_ps(_mm_sub_ps(one, _mm_set1_ps(s[3])), v));
+            let mut r = [0f32; 4];
+            // SAFETY: 16 bytes each.
+            unsafe { _mm_storeu_ps(r.as_mut_ptr(), new) };
+            // SAFETY: `p` points into `buf`.
+            unsafe { *p = r };
+            counts += 1 | ((r[3] >= OPAQUE) as u64) << 32;
         }
         d.frags += counts & 0xffff_ffff;
         d.opaque += (counts >> 32) as usize;
