@@ -110,13 +110,23 @@ fn print_arrays(title: &str, arrays: &[DataArray], attrs: Option<&Attributes>) {
 /// The time steps of a .pvd, Exodus or VTKHDF input (`FILE.pvd`, `FILE.pvd@K`, `FILE.exo`,
 /// `FILE.exo@K`, `FILE.vtkhdf@K`) and the one read, else `None` (also for an Exodus or VTKHDF
 /// file without steps). Exodus and VTKHDF steps name no files.
-fn time_steps(input: &Path) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
+///
+/// `grid` is what was read from `input`: an Exodus file's times are its `exodus:time` field
+/// array (which the reader adds exactly when the file has steps) rather than a second read.
+fn time_steps(input: &Path, grid: &Grid) -> anyhow::Result<Option<(Vec<pvd::Step>, usize)>> {
     use formats::{vtkhdf, Format};
     if let Some((file, sel)) = selected(input, vtkhdf::split_selector, Format::VtkHdf) {
         return Ok(timed_steps(vtkhdf::times(&file)?, sel));
     }
-    if let Some((file, sel)) = selected(input, exodus::split_selector, Format::Exodus) {
-        return Ok(timed_steps(exodus::times(&file)?, sel));
+    if let Some((_, sel)) = selected(input, exodus::split_selector, Format::Exodus) {
+        let times = grid
+            .field_data
+            .iter()
+            .find(|a| a.name == exodus::names::TIME)
+            .map_or_else(Vec::new, |a| {
+                (0..a.data.len()).map(|i| a.data.get_f64(i)).collect()
+            });
+        return Ok(timed_steps(times, sel));
     }
     let Some((file, sel)) = selected(input, pvd::split_selector, Format::Pvd) else {
         return Ok(None);
@@ -188,7 +198,7 @@ fn print_steps(input: &Path, steps: &[pvd::Step], read: usize) {
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     // The grid first: its reader names what is wrong with a file best.
     let grid = super::read_input(&args.input)?;
-    let steps = time_steps(&args.input)?;
+    let steps = time_steps(&args.input, &grid)?;
     if args.json {
         let mut v = summary(&grid);
         v["file"] = json!(args.input.display().to_string());

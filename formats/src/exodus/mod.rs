@@ -25,7 +25,8 @@ pub mod names {
     pub const NODE_ID: &str = "GlobalNodeId";
     /// Field data: the block names (`eb_names`) in block order.
     pub const BLOCK_NAMES: &str = "exodus:block_names";
-    /// Field data: the times of all steps (`time_whole`).
+    /// Field data: the times of all steps (`time_whole`; NaN where a step has none), present
+    /// exactly when the file has steps.
     pub const TIME: &str = "exodus:time";
     /// Point arrays `nodeset:NAME`: 1 for the nodes of the node set.
     pub const NODE_SET_PREFIX: &str = "nodeset:";
@@ -63,7 +64,7 @@ pub fn times(path: &Path) -> Result<Vec<f64>> {
 /// differ). Cell arrays: `ObjectId` (Int32 block id), `GlobalElementId` (Int64, from
 /// `elem_num_map`, or 1, 2, ... as Exodus numbers elements without one) and the element variables of step `sel` (NaN in blocks the truth table leaves
 /// out); point arrays: `GlobalNodeId` (Int64, from `node_num_map` or 1, 2, ...), the nodal variables of the
-/// step and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times),
+/// step and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times, NaN where a step has none; only in a file with steps),
 /// `exodus:block_names`, and each global variable over all steps. Side sets are skipped with a
 /// warning; QA and info records are skipped. NetCDF-4 (HDF5) files, also behind a user block of
 /// 512, 1024, ... bytes, read exactly as their classic copies do: chunked, compressed (deflate,

@@ -78,13 +78,13 @@ fn read_source<S: Source>(f: &S, sel: Selector) -> Result<Grid> {
         ));
     }
     if steps > 0 {
-        if f.var("time_whole").is_some() {
-            g.field_data.push(DataArray::new(
-                names::TIME,
-                1,
-                ArrayData::Float64(times(f)?),
-            ));
-        }
+        // NaN for steps without a time (no `time_whole`): the array is there exactly when the
+        // file has steps, so `tetkit info` lists them without reading the file again.
+        g.field_data.push(DataArray::new(
+            names::TIME,
+            1,
+            ArrayData::Float64(times(f)?),
+        ));
         nodal_vars(f, step, n_points, &mut g)?;
         element_vars(f, step, &blocks, &mut g)?;
         global_vars(f, &mut g)?;

@@ -828,3 +828,29 @@ fn cut_and_flip(b: &[u8], cut: usize, flip: usize) {
         }
     }
 }
+
+#[test]
+fn the_time_array_is_there_exactly_when_the_file_has_steps() {
+    let time = |g: &Grid| {
+        g.field_data
+            .iter()
+            .find(|a| a.name == names::TIME)
+            .map(|a| a.data.clone())
+    };
+    // Steps without `time_whole`: one NaN a step, so a listing still counts them.
+    let mut c = exodus(1);
+    c.remove("time_whole");
+    let t = time(&read(&c.bytes()));
+    assert!(
+        matches!(&t, Some(ArrayData::Float64(v)) if v.len() == 2 && v.iter().all(|x| x.is_nan())),
+        "{t:?}"
+    );
+    // No steps (no record variables, no records): no time array.
+    let mut c = exodus(1);
+    let rec = c.dims.iter().position(|d| d.0 == "time_step");
+    c.vars.retain(|v| v.dims.first().copied() != rec);
+    c.numrecs = 0;
+    let g = read(&c.bytes());
+    assert_eq!(time(&g), None);
+    assert_eq!(g.num_cells(), 2);
+}
