@@ -67,7 +67,7 @@ pub fn times(path: &Path) -> Result<Vec<f64>> {
     if !r.has_member("Steps")? {
         return Ok(Vec::new());
     }
-    Ok(r.steps()?.values)
+    r.step_values(&r.steps_group()?)
 }
 
 /// Runs a call into `hdf5-reader`, its errors and panics ([`guard_panics`]: it parses HDF5's
@@ -216,12 +216,17 @@ impl<'a> Reader<'a> {
         })
     }
 
-    /// The `Steps` group: its per-step datasets read and their lengths checked against
-    /// `Values` (and the `NSteps` attribute, when there is one).
-    fn steps(&self) -> Result<Steps> {
-        let gname = "group /VTKHDF/Steps";
-        let group = guarded(self.path, &place_of(gname), || self.group.group("Steps"))?;
-        let values = self.dataset(&group, "Values", "Steps/Values", false)?;
+    /// The `Steps` group of a temporal file.
+    fn steps_group(&self) -> Result<Group> {
+        guarded(self.path, &place_of("group /VTKHDF/Steps"), || {
+            self.group.group("Steps")
+        })
+    }
+
+    /// The time of each step (`Steps/Values`), checked against the `NSteps` attribute when
+    /// there is one.
+    fn step_values(&self, group: &Group) -> Result<Vec<f64>> {
+        let values = self.dataset(group, "Values", "Steps/Values", false)?;
         if values.shape.len() != 1 {
             return Err(self.array_err(
                 "Steps/Values",
@@ -229,8 +234,8 @@ impl<'a> Reader<'a> {
             ));
         }
         let values = values.data.to_f64_vec();
-        let n = values.len() as u64;
-        if let Ok(ns) = self.attr_ints(&group, "/VTKHDF/Steps", "NSteps") {
+        let n = values.len();
+        if let Ok(ns) = self.attr_ints(group, "/VTKHDF/Steps", "NSteps") {
             if ns.first().copied() != Some(n as i64) {
                 return Err(self.err(
                     "attribute 'NSteps' of /VTKHDF/Steps",
@@ -238,7 +243,29 @@ impl<'a> Reader<'a> {
                 ));
             }
         }
+        Ok(values)
+    }
+
+    /// The `Steps` group: its times and per-step datasets, their lengths checked against
+    /// `Values`, and the per-array offset groups VTK's reader knows, each with its members.
+    fn steps(&self) -> Result<Steps> {
+        let group = self.steps_group()?;
+        let values = self.step_values(&group)?;
+        let n = values.len() as u64;
         let ints = |name: &str| self.step_ints(&group, name, &format!("Steps/{name}"), n);
+        let (kinds, _) = guarded(self.path, &place_of("group /VTKHDF/Steps"), || {
+            group.member_names()
+        })?;
+        let mut per_array = Vec::new();
+        for kind in kinds
+            .into_iter()
+            .filter(|k| PER_ARRAY.contains(&k.as_str()))
+        {
+            let gname = format!("group /VTKHDF/Steps/{kind}");
+            let g = guarded(self.path, &place_of(&gname), || group.group(&kind))?;
+            let (_, names) = guarded(self.path, &place_of(&gname), || g.member_names())?;
+            per_array.push((kind, g, names));
+        }
         Ok(Steps {
             part_offsets: ints("PartOffsets")?,
             parts: ints("NumberOfParts")?,
@@ -246,7 +273,7 @@ impl<'a> Reader<'a> {
             cell_offsets: ints("CellOffsets")?,
             conn_offsets: ints("ConnectivityIdOffsets")?,
             values,
-            group,
+            per_array,
         })
     }
 
@@ -266,23 +293,18 @@ impl<'a> Reader<'a> {
 
     /// Row of dataset `Steps/<kind>/<name>` at the window's step, when the file has it.
     fn step_row(&self, w: &Window, kind: &str, name: &str) -> Result<Option<Vec<i64>>> {
-        let Some((k, _, steps)) = &w.step else {
+        let Some((k, _)) = &w.step else {
             return Ok(None);
         };
-        let gname = format!("group /VTKHDF/Steps/{kind}");
-        let (groups, _) = guarded(self.path, &place_of("group /VTKHDF/Steps"), || {
-            steps.member_names()
-        })?;
-        if !groups.iter().any(|g| g == kind) {
+        let Some((_, g, _)) = w
+            .per_array
+            .iter()
+            .find(|(kd, _, names)| kd == kind && names.iter().any(|m| m == name))
+        else {
             return Ok(None);
-        }
-        let g = guarded(self.path, &place_of(&gname), || steps.group(kind))?;
-        let (_, names) = guarded(self.path, &place_of(&gname), || g.member_names())?;
-        if !names.iter().any(|m| m == name) {
-            return Ok(None);
-        }
+        };
         let shown = format!("Steps/{kind}/{name}");
-        let (v, rows, cols) = self.int_table(&g, name, &shown)?;
+        let (v, rows, cols) = self.int_table(g, name, &shown)?;
         if *k as u64 >= rows {
             return Err(self.array_err(&shown, format!("has {rows} rows, none for time step {k}")));
         }
@@ -779,8 +801,9 @@ fn read_file(file: Hdf5File, path: &Path, max_read: u64, sel: Selector) -> Resul
 /// The `Steps` group of a temporal file: per step, where its parts, points, cells and
 /// connectivity ids start.
 struct Steps {
-    group: Group,
     values: Vec<f64>,
+    /// The per-array offset groups ([`PER_ARRAY`]) the file has, with their members' names.
+    per_array: Vec<(String, Group, Vec<String>)>,
     part_offsets: Vec<i64>,
     parts: Vec<i64>,
     point_offsets: Vec<i64>,
@@ -820,16 +843,28 @@ impl Steps {
             point0: at("PointOffsets", &self.point_offsets)?,
             cell0: at("CellOffsets", &self.cell_offsets)?,
             conn0: at("ConnectivityIdOffsets", &self.conn_offsets)?,
-            step: Some((k, self.values[k], self.group)),
+            step: Some((k, self.values[k])),
+            per_array: self.per_array,
         })
     }
 }
 
+/// The groups of `Steps` that hold one dataset per array: where each array's rows start at each
+/// step, and a field array's size at each step.
+const PER_ARRAY: [&str; 4] = [
+    "PointDataOffsets",
+    "CellDataOffsets",
+    "FieldDataOffsets",
+    "FieldDataSizes",
+];
+
 /// Where the step read lies in the file's datasets; the default is a static file's whole.
 #[derive(Default)]
 struct Window {
-    /// The step's index and time, and the `Steps` group, for a temporal file.
-    step: Option<(usize, f64, Group)>,
+    /// The step's index and time, for a temporal file.
+    step: Option<(usize, f64)>,
+    /// The `Steps` groups of per-array offsets and sizes, with their members' names.
+    per_array: Vec<(String, Group, Vec<String>)>,
     /// The step's first part, and how many it has (all of the file's when `None`).
     part0: u64,
     parts: Option<u64>,
@@ -844,7 +879,7 @@ impl Window {
     fn step_name(&self) -> String {
         self.step
             .as_ref()
-            .map_or_else(|| "the file".into(), |(k, _, _)| format!("time step {k}"))
+            .map_or_else(|| "the file".into(), |(k, _)| format!("time step {k}"))
     }
 }
 
@@ -949,31 +984,34 @@ fn read_grid(r: &Reader, w: &Window) -> Result<Grid> {
         ))
     };
 
-    let points = r
-        .dataset_with(&r.group, "Points", "Points", false, |shape| match shape {
-            [rows, 3] => {
-                window("Points", *rows, w.point0, np_total, "rows")?;
-                Ok(Take::Rows(w.point0, np_total))
+    // Rows `start, count` of dataset `name`, whose shape past its rows must be `tail`.
+    let rows_of = |name: &str, tail: &[u64], start: u64, count: u64, unit: &str, want: &str| {
+        r.dataset_with(&r.group, name, name, false, |shape| match shape {
+            [rows, rest @ ..] if rest == tail => {
+                window(name, *rows, start, count, unit)?;
+                Ok(Take::Rows(start, count))
             }
-            s => Err(r.array_err(
-                "Points",
-                format!("has shape {s:?}, expected [{np_total}, 3] (NumberOfPoints x 3)"),
-            )),
+            s => Err(r.array_err(name, format!("has shape {s:?}, expected {want}"))),
         })?
-        .ok_or_else(|| r.array_err("Points", "was not read"))?;
-    let types = r
-        .dataset_with(&r.group, "Types", "Types", false, |shape| match shape {
-            [rows] => {
-                window("Types", *rows, w.cell0, nc_total, "entries")?;
-                Ok(Take::Rows(w.cell0, nc_total))
-            }
-            s => Err(r.array_err(
-                "Types",
-                format!("has shape {s:?}, expected [{nc_total}] (one per cell)"),
-            )),
-        })?
-        .ok_or_else(|| r.array_err("Types", "was not read"))?
-        .data;
+        .ok_or_else(|| r.array_err(name, "was not read"))
+    };
+    let points = rows_of(
+        "Points",
+        &[3],
+        w.point0,
+        np_total,
+        "rows",
+        &format!("[{np_total}, 3] (NumberOfPoints x 3)"),
+    )?;
+    let types = rows_of(
+        "Types",
+        &[],
+        w.cell0,
+        nc_total,
+        "entries",
+        &format!("[{nc_total}] (one per cell)"),
+    )?
+    .data;
     let types: Vec<u8> = match types {
         ArrayData::UInt8(v) => v,
         other => {
@@ -1122,7 +1160,7 @@ fn read_grid(r: &Reader, w: &Window) -> Result<Grid> {
     point_data.arrays = pd;
     cell_data.arrays = cd;
     // VTK's reader gives a temporal file's step its time as the field array `Time`.
-    if let Some((_, t, _)) = &w.step {
+    if let Some((_, t)) = &w.step {
         if !field_data.iter().any(|a| a.name == "Time") {
             field_data.push(DataArray::new("Time", 1, ArrayData::Float64(vec![*t])));
         }
