@@ -305,7 +305,8 @@ mod x86 {
         buf: &mut [[f32; 4]],
         d: &mut Drawn,
     ) {
-        // The weights and corners as `PreintTable::prep` computes them, in registers.
+        // The weights and corners as `PreintTable::prep` computes them, in registers (calling
+        // `prep` here, with its `usize` bases, made 200k-tet frames' tiles 13 % slower).
         let load = |v: &[f32; LANES]| {
             // SAFETY: `v` holds 8 floats, and the CPU has AVX (implied by AVX2, which this
             // closure's caller checked).
