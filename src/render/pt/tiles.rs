@@ -334,8 +334,23 @@ unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, ru
     bin(frame, chunk, ntx, opaque, run)
 }
 
+/// [`bin`] compiled for AVX-512 (F and VL): with 32 vector registers the set-up's four-lane
+/// plane fits spill less. No fused multiply-add: bit for bit the same.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+unsafe fn bin_avx512(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
+    bin(frame, chunk, ntx, opaque, run)
+}
+
 /// [`bin`] with the widest instruction set the CPU has.
 fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx512vl")
+    {
+        // SAFETY: the CPU has AVX-512F and VL (and so AVX2), checked just above.
+        return unsafe { bin_avx512(frame, chunk, ntx, opaque, run) };
+    }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
