@@ -152,13 +152,13 @@ fn records() {
         &[("node", NODE), ("ele", "1 4 0\n1 1 2 3 5\n")],
         "ele",
         2,
-        "outside 1..5",
+        "node number 5 is out of range (there are 4 nodes, numbered 1 to 4)",
     );
     refused(
         &[("node", NODE), ("ele", "1 4 0\n1 0 2 3 4\n")],
         "ele",
         2,
-        "outside 1..5",
+        "node number 0 is out of range (there are 4 nodes, numbered 1 to 4)",
     );
     refused(
         &[
@@ -167,7 +167,7 @@ fn records() {
         ],
         "ele",
         2,
-        "outside",
+        "out of range",
     );
     refused(
         &[("node", NODE), ("ele", "1 4 1\n1 1 2 3 4 abc\n")],
@@ -185,7 +185,7 @@ fn records() {
         &[("node", NODE), ("ele", ELE), ("face", "1 0\n1 1 2 9\n")],
         "face",
         2,
-        "outside",
+        "out of range",
     );
     refused(
         &[("node", NODE), ("ele", ELE), ("neigh", "2 4\n")],

@@ -3,6 +3,20 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+/// The references a count of `noun`s numbered from `first` allows, for an out-of-range
+/// message: `there are 4 nodes, numbered 1 to 4` (not a Rust range, which reads as one past
+/// the last).
+pub fn numbered(n: u64, noun: &str, first: i64) -> String {
+    match n {
+        0 => format!("there are no {noun}s"),
+        1 => format!("there is one {noun}, numbered {first}"),
+        _ => format!(
+            "there are {n} {noun}s, numbered {first} to {}",
+            (first as i128) + n as i128 - 1
+        ),
+    }
+}
+
 /// Where in a file a problem was found.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Place {
@@ -110,5 +124,29 @@ pub(crate) fn guard_panics<R, E: fmt::Display>(
                 .unwrap_or_default();
             Err(format!("the reader failed on a corrupt file ({m})"))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::numbered;
+
+    #[test]
+    fn numbered_says_the_first_and_last_valid_number() {
+        assert_eq!(numbered(0, "point", 0), "there are no points");
+        assert_eq!(numbered(1, "node", 1), "there is one node, numbered 1");
+        assert_eq!(
+            numbered(4, "point", 0),
+            "there are 4 points, numbered 0 to 3"
+        );
+        // No overflow at the ends of i64.
+        assert_eq!(
+            numbered(2, "node", i64::MAX),
+            format!(
+                "there are 2 nodes, numbered {} to {}",
+                i64::MAX,
+                i64::MAX as i128 + 1
+            )
+        );
     }
 }

@@ -940,8 +940,9 @@ impl Grid {
             p < 0 || p >= np
         }) {
             return Err(format!(
-                "connectivity entry {bad} is point id {}, outside 0..{np}",
-                c.connectivity[bad]
+                "connectivity entry {bad} is point id {}, out of range ({})",
+                c.connectivity[bad],
+                crate::error::numbered(np as u64, "point", 0)
             ));
         }
         let nc = c.types.len();

@@ -1120,8 +1120,9 @@ fn read_grid(r: &Reader, w: &Window) -> Result<Grid> {
                 return Err(r.array_err(
                     "Connectivity",
                     format!(
-                        "entry {} is point id {id}, outside piece {k}'s points 0..{npk}",
-                        k0 as usize + j
+                        "entry {} is point id {id}, outside piece {k}'s points ({})",
+                        k0 as usize + j,
+                        crate::error::numbered(npk as u64, "point", 0)
                     ),
                 ));
             }

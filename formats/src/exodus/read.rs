@@ -4,6 +4,7 @@ use super::nc4::{is_hdf5, Nc4};
 use super::netcdf::{File, NcType, Source};
 use super::types::cell_kind;
 use super::{names, warn};
+use crate::error::numbered;
 use crate::pvd::Selector;
 use crate::{ArrayData, Cells, DataArray, FormatError, Grid, Result};
 use std::path::Path;
@@ -274,7 +275,11 @@ fn blocks<S: Source>(f: &S, n_points: usize, cells: &mut Cells) -> Result<Vec<Bl
                 if node < 1 || node > n_points as i64 {
                     return Err(f.err_var(
                         v,
-                        format!("element {} names node {node}, outside 1..{n_points}", e + 1),
+                        format!(
+                            "element {} names node {node}, out of range ({})",
+                            e + 1,
+                            numbered(n_points as u64, "node", 1)
+                        ),
                     ));
                 }
                 *slot = node - 1;
@@ -338,7 +343,13 @@ fn node_sets<S: Source>(f: &S, n_points: usize, g: &mut Grid) -> Result<()> {
         let mut mark = vec![0u8; n_points];
         for node in f.values::<i64>(v, 0)? {
             if node < 1 || node > n_points as i64 {
-                return Err(f.err_var(v, format!("names node {node}, outside 1..{n_points}")));
+                return Err(f.err_var(
+                    v,
+                    format!(
+                        "names node {node}, out of range ({})",
+                        numbered(n_points as u64, "node", 1)
+                    ),
+                ));
             }
             mark[node as usize - 1] = 1;
         }

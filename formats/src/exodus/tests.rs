@@ -534,7 +534,7 @@ fn refusals_name_the_place() {
                 .attrs
                 .push(("elem_type".into(), Val::Text(b"TRI".to_vec())));
             }),
-            "variable 'connect2': element 1 names node 6, outside 1..5",
+            "variable 'connect2': element 1 names node 6, out of range (there are 5 nodes, numbered 1 to 5)",
         ),
         (
             "unknown type",

@@ -437,7 +437,11 @@ fn assemble(
             if let Some(k) = bad {
                 return Err(cur.err(
                     cur.value_at(conn_at, k, conn_size),
-                    format!("CONNECTIVITY: point id {} is outside 0..{np}", conn[k]),
+                    format!(
+                        "CONNECTIVITY: point id {} is out of range ({})",
+                        conn[k],
+                        crate::error::numbered(np as u64, "point", 0)
+                    ),
                 ));
             }
             (offsets, conn, at)
@@ -534,7 +538,10 @@ fn split_counts(
     if let Some((i, k, x)) = bad {
         return Err(cur.err(
             cur.value_at(at, k, 4),
-            format!("CELLS: cell {i} has point id {x} outside 0..{np}"),
+            format!(
+                "CELLS: cell {i} has point id {x}, out of range ({})",
+                crate::error::numbered(np as u64, "point", 0)
+            ),
         ));
     }
     Ok((offsets, conn))
@@ -580,7 +587,10 @@ fn expand_polyhedra(
                 })?;
             let face = &s[k + 1..end];
             if let Some(&x) = face.iter().find(|&&x| x < 0 || x >= np) {
-                return Err(bad(&format!("face {f} has point id {x}, outside 0..{np}")));
+                return Err(bad(&format!(
+                    "face {f} has point id {x}, out of range ({})",
+                    crate::error::numbered(np as u64, "point", 0)
+                )));
             }
             ids.extend_from_slice(face);
             k = end;

@@ -2,6 +2,7 @@
 
 use super::records::Records;
 use super::{names, TG_FROM_VTK_QUADRATIC_TETRA};
+use crate::error::numbered;
 use crate::{cell_type, ArrayData, Cells, DataArray, FormatError, Grid, Result};
 use std::path::{Path, PathBuf};
 
@@ -226,9 +227,8 @@ fn node_ref(r: &Records<'_>, t: &[&[u8]], k: usize, line: usize, nodes: Nodes) -
         r.err(
             line,
             format!(
-                "node number {v} is outside {}..{}",
-                nodes.first,
-                nodes.first + nodes.count as i64
+                "node number {v} is out of range ({})",
+                numbered(nodes.count as u64, "node", nodes.first)
             ),
         )
     })

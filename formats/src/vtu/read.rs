@@ -516,7 +516,10 @@ pub(crate) fn check_faces(
             let n = usize::try_from(*s.get(k).ok_or_else(bad)?).map_err(|_| bad())?;
             let ids = s.get(k + 1..k + 1 + n).ok_or_else(bad)?;
             if let Some(&id) = ids.iter().find(|&&id| id < 0 || id as usize >= np) {
-                return Err(format!("cell {cell}: point id {id} outside 0..{np}"));
+                return Err(format!(
+                    "cell {cell}: point id {id} out of range ({})",
+                    crate::error::numbered(np as u64, "point", 0)
+                ));
             }
             k += 1 + n;
         }
