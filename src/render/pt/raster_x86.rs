@@ -100,9 +100,10 @@ unsafe fn fragments(t: &TetSetup, parallel: bool, b: &Batch) -> [__m256; 3] {
     [sf, sb, _mm256_and_ps(li, finite)]
 }
 
-/// Shades the first `n` lanes of `b` and composites them behind what `buf` holds.
+/// Shades the first `n` lanes of `b` and composites them behind what `buf` holds, with the
+/// shade's AVX-512 path when `WIDE`.
 #[inline(always)]
-unsafe fn flush<S: Shade>(
+unsafe fn flush<S: Shade, const WIDE: bool>(
     t: &TetSetup,
     parallel: bool,
     b: &Batch,
@@ -128,8 +129,13 @@ unsafe fn flush<S: Shade>(
             _mm256_cvtepu32_epi64(_mm256_extracti128_si256::<1>(b.at)),
         );
     }
-    // SAFETY: the CPU has AVX2 (the caller's promise).
-    unsafe { shade.composite_avx2(&f, &at, n, buf, d) };
+    if WIDE {
+        // SAFETY: the CPU has AVX-512F and VL when `WIDE` (the caller's promise).
+        unsafe { shade.composite_avx512(&f, &at, n, buf, d) };
+    } else {
+        // SAFETY: the CPU has AVX2 (the caller's promise).
+        unsafe { shade.composite_avx2(&f, &at, n, buf, d) };
+    }
 }
 
 /// `Draw::rows` in explicit AVX2.
@@ -145,7 +151,7 @@ pub(super) unsafe fn rows<S: Shade, R: Rows>(
     buf: &mut [[f32; 4]],
 ) -> Drawn {
     // SAFETY: the caller's promise.
-    unsafe { rows_body(draw, rows, y0, y1, buf) }
+    unsafe { rows_body::<S, R, false>(draw, rows, y0, y1, buf) }
 }
 
 /// [`rows`] compiled for AVX-512 (F and VL) too: the same operations, but with 32 vector
@@ -162,7 +168,7 @@ pub(super) unsafe fn rows512<S: Shade, R: Rows>(
     buf: &mut [[f32; 4]],
 ) -> Drawn {
     // SAFETY: the caller's promise.
-    unsafe { rows_body(draw, rows, y0, y1, buf) }
+    unsafe { rows_body::<S, R, true>(draw, rows, y0, y1, buf) }
 }
 
 /// `Draw::rows` with the batch in registers: each row's run fills lanes `n ..` at once (a
@@ -171,9 +177,9 @@ pub(super) unsafe fn rows512<S: Shade, R: Rows>(
 /// their own, so they compile once per set.
 ///
 /// # Safety
-/// The CPU has AVX2.
+/// The CPU has AVX2, and AVX-512F and VL when `WIDE`.
 #[inline(always)]
-unsafe fn rows_body<S: Shade, R: Rows>(
+unsafe fn rows_body<S: Shade, R: Rows, const WIDE: bool>(
     draw: &Draw<S>,
     mut rows: R,
     y0: i64,
@@ -236,7 +242,7 @@ unsafe fn rows_body<S: Shade, R: Rows>(
             n += take;
             x += take;
             if n == LANES as i64 {
-                flush(t, parallel, &b, LANES, buf, shade, &mut d);
+                flush::<S, WIDE>(t, parallel, &b, LANES, buf, shade, &mut d);
                 n = 0;
             }
             if x > xb {
@@ -245,7 +251,7 @@ unsafe fn rows_body<S: Shade, R: Rows>(
         }
     }
     if n > 0 {
-        flush(t, parallel, &b, n as usize, buf, shade, &mut d);
+        flush::<S, WIDE>(t, parallel, &b, n as usize, buf, shade, &mut d);
     }
     d
 }

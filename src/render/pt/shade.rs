@@ -114,6 +114,24 @@ pub(crate) trait Shade {
     ) {
         self.composite(f, at, n, buf, d)
     }
+
+    /// [`Shade::composite_avx2`] as the AVX-512 rows call it.
+    ///
+    /// # Safety
+    /// The CPU has AVX2, AVX-512F and AVX-512VL.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn composite_avx512(
+        &self,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        // SAFETY: the caller's promise includes AVX2.
+        unsafe { self.composite_avx2(f, at, n, buf, d) }
+    }
 }
 
 /// [`Shade::composite`] one lane at a time: the definition every faster path matches bit for bit.
@@ -234,6 +252,23 @@ impl Shade for PreintTable {
         }
         composite_lanes(self, f, at, n, buf, d)
     }
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn composite_avx512(
+        &self,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        if x86::fits(self) {
+            // SAFETY: the CPU has AVX-512F and VL (the caller's promise) and the table fits.
+            unsafe { x86::composite_pre_pairs(self, f, at, n, buf, d) };
+            return;
+        }
+        composite_lanes(self, f, at, n, buf, d)
+    }
 }
 
 /// The pre-integrated lookup and composite in explicit AVX2: a fragment's entries `if_` and
@@ -305,52 +340,14 @@ mod x86 {
         buf: &mut [[f32; 4]],
         d: &mut Drawn,
     ) {
-        // The weights and corners as `PreintTable::prep` computes them, in registers (calling
-        // `prep` here, with its `usize` bases, made 200k-tet frames' tiles 13 % slower).
-        let load = |v: &[f32; LANES]| {
-            // SAFETY: `v` holds 8 floats, and the CPU has AVX (implied by AVX2, which this
-            // closure's caller checked).
-            unsafe { _mm256_loadu_ps(v.as_ptr()) }
-        };
-        let (sf, sb, l) = (load(&f[0]), load(&f[1]), load(&f[2]));
-        let s0 = _mm256_set1_ps(t.s0);
-        let inv_ds = _mm256_set1_ps(t.inv_ds);
-        let top = _mm256_set1_ps((t.ns - 1) as f32);
-        let xf = clamp0(_mm256_mul_ps(_mm256_sub_ps(sf, s0), inv_ds), top);
-        let xb = clamp0(_mm256_mul_ps(_mm256_sub_ps(sb, s0), inv_ds), top);
-        let ql = _mm256_mul_ps(l, _mm256_set1_ps(t.inv_dl));
-        let ltop = _mm256_set1_ps((t.nl - 1) as f32);
-        // Lanes past the length axis: `PreintTable::segment` replaces their lookup below.
-        let long = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(ql, ltop));
-        let xl = clamp0(ql, ltop);
-        let (ns, nl) = (t.ns as i32, t.nl as i32);
-        // Truncation of values in [0, ns - 1] or [0, nl - 1], as `to_int_unchecked`.
-        let a = _mm256_min_epi32(_mm256_cvttps_epi32(xf), _mm256_set1_epi32(ns - 2));
-        let b = _mm256_min_epi32(_mm256_cvttps_epi32(xb), _mm256_set1_epi32(ns - 2));
-        let c = _mm256_min_epi32(_mm256_cvttps_epi32(xl), _mm256_set1_epi32(nl - 2));
-        let wf = _mm256_sub_ps(xf, _mm256_cvtepi32_ps(a));
-        let wb = _mm256_sub_ps(xb, _mm256_cvtepi32_ps(b));
-        let wl = _mm256_sub_ps(xl, _mm256_cvtepi32_ps(c));
-        let nsv = _mm256_set1_epi32(ns);
-        let base = _mm256_add_epi32(
-            _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(c, nsv), b), nsv),
-            a,
-        );
-        let mut bases = [0i32; LANES];
-        let (mut ws, mut wt, mut wu) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
-        // SAFETY: `bases` holds 8 `i32`, each weight array 8 floats.
-        unsafe {
-            _mm256_storeu_si256(bases.as_mut_ptr().cast(), base);
-            _mm256_storeu_ps(ws.as_mut_ptr(), wf);
-            _mm256_storeu_ps(wt.as_mut_ptr(), wb);
-            _mm256_storeu_ps(wu.as_mut_ptr(), wl);
-        }
-        let data = t.data.as_ptr();
-        let (o1, o2) = (t.ns, t.ns * t.ns);
-        let one = _mm_set1_ps(1.0);
+        // SAFETY: the caller's promise (AVX2).
+        let w = unsafe { weights(t, f) };
         let out = buf.as_mut_ptr();
         // Drawn and newly opaque lanes as two counters of one word, kept scalar.
         let mut counts = 0u64;
+        // An index loop: `at.iter().enumerate().take(n)` kept more counters in the loop (AVX2
+        // rows 10 % slower).
+        #[allow(clippy::needless_range_loop)]
         for i in 0..n.min(LANES) {
             let a = at[i];
             if a >= buf.len() {
@@ -365,37 +362,234 @@ mod x86 {
             if s[3] >= OPAQUE {
                 continue;
             }
-            let v = if long >> i & 1 != 0 {
-                // SAFETY: 16 bytes.
-                unsafe { _mm_loadu_ps(t.segment(f[0][i], f[1][i], f[2][i]).as_ptr()) }
-            } else {
-                // SAFETY: the base is `(c ns + b) ns + a` with `a, b` in [0, ns - 2] and `c`
-                // in [0, nl - 2] (clamped above; `fits` makes the products exact in i32), so
-                // `base + ns ns + ns + 1 <= nl ns ns - 1 < data.len()`: every pair of
-                // entries read below (from `q + o` to `q + o + 1`) lies in the table.
-                unsafe {
-                    let q = data.add(bases[i] as usize);
-                    let c = |o: usize| _mm256_loadu_ps(q.add(o).cast());
-                    let (tb, tl) = (_mm256_set1_ps(wt[i]), _mm256_set1_ps(wu[i]));
-                    // Entries `a` and `a + 1` side by side: blended along Sb, then l, then
-                    // (the two halves) along Sf, as `PreintTable::corners`.
-                    let v = lerp(lerp(c(0), c(o1), tb), lerp(c(o2), c(o2 + o1), tb), tl);
-                    let (lo, hi) = (_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
-                    _mm_add_ps(lo, _mm_mul_ps(_mm_set1_ps(ws[i]), _mm_sub_ps(hi, lo)))
-                }
-            };
-            // SAFETY: 16 bytes each.
-            let sv = unsafe { _mm_loadu_ps(s.as_ptr()) };
-            let new = _mm_add_ps(sv, _mm_mul_ps(_mm_sub_ps(one, _mm_set1_ps(s[3])), v));
-            let mut r = [0f32; 4];
-            // SAFETY: 16 bytes each.
-            unsafe { _mm_storeu_ps(r.as_mut_ptr(), new) };
-            // SAFETY: `p` points into `buf`.
-            unsafe { *p = r };
-            counts += 1 | ((r[3] >= OPAQUE) as u64) << 32;
+            // SAFETY: the caller's promises; `p` points into `buf` and holds `s`.
+            counts += unsafe { over(p, s, entry(t, &w, f, i)) };
         }
         d.frags += counts & 0xffff_ffff;
         d.opaque += (counts >> 32) as usize;
+    }
+
+    /// [`composite_pre`] in AVX-512, for CPUs that have it.
+    ///
+    /// # Safety
+    /// The CPU has AVX2, AVX-512F and AVX-512VL, and [`fits`] holds for `t`.
+    #[cfg(test)]
+    #[target_feature(enable = "avx2,avx512f,avx512vl")]
+    pub(super) unsafe fn composite_pre512(
+        t: &PreintTable,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        // SAFETY: the caller's promise.
+        unsafe { composite_pre_pairs(t, f, at, n, buf, d) }
+    }
+
+    /// [`composite_pre_body`] two fragments at a time where the CPU has AVX-512: a pair's
+    /// eight entries (four adjacent pairs each) are blended along Sb and l in one 512-bit
+    /// register, along Sf and over the two pixels in one 256-bit one. Lanes are distinct pixels,
+    /// so the order they are taken in does not matter; every value is computed by the same
+    /// operations on the same operands as one at a time, so the bits are the same.
+    ///
+    /// # Safety
+    /// The CPU has AVX2, AVX-512F and AVX-512VL, and [`fits`] holds for `t`.
+    #[inline(always)]
+    pub(super) unsafe fn composite_pre_pairs(
+        t: &PreintTable,
+        f: &Lanes,
+        at: &[usize; LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        // SAFETY: the caller's promise (AVX2).
+        let w = unsafe { weights(t, f) };
+        let out = buf.as_mut_ptr();
+        // The lanes that take a fragment: in the tile (always) and not yet opaque.
+        let mut todo = 0u32;
+        for (i, &a) in at.iter().enumerate().take(n.min(LANES)) {
+            // `!(alpha >= OPAQUE)`: NaN takes fragments too, as the scalar path.
+            if buf.get(a).is_some_and(|s| !(s[3] >= OPAQUE)) {
+                todo |= 1 << i;
+            }
+        }
+        let mut counts = 0u64;
+        let mut pairs = todo & !(w.long as u32);
+        let (data, o1, o2) = (w.data, w.o1, w.o2);
+        while pairs.count_ones() >= 2 {
+            let i = pairs.trailing_zeros() as usize;
+            pairs &= pairs - 1;
+            let j = pairs.trailing_zeros() as usize;
+            pairs &= pairs - 1;
+            // SAFETY: the CPU has AVX-512F and VL (the caller's promise). Both bases are in
+            // the table as in [`entry`], so every 32-byte read from `q + o` lies in it; `at[i]`
+            // and `at[j]` are distinct pixels inside `buf` (checked above).
+            unsafe {
+                let (qi, qj) = (data.add(w.bases[i] as usize), data.add(w.bases[j] as usize));
+                // Entries `a` and `a + 1` of lane `i`, then of lane `j`.
+                let c = |o: usize| {
+                    let lo = _mm512_castps256_ps512(_mm256_loadu_ps(qi.add(o).cast()));
+                    let hi = _mm256_castps_pd(_mm256_loadu_ps(qj.add(o).cast()));
+                    _mm512_castpd_ps(_mm512_insertf64x4::<1>(_mm512_castps_pd(lo), hi))
+                };
+                let two = |v: &[f32; LANES]| {
+                    _mm512_mask_broadcastss_ps(_mm512_set1_ps(v[i]), 0xff00, _mm_set_ss(v[j]))
+                };
+                let (tb, tl) = (two(&w.wb), two(&w.wl));
+                let lerp = |a: __m512, b: __m512, t: __m512| {
+                    _mm512_add_ps(a, _mm512_mul_ps(t, _mm512_sub_ps(b, a)))
+                };
+                let v = lerp(lerp(c(0), c(o1), tb), lerp(c(o2), c(o2 + o1), tb), tl);
+                // Quarters (i: a, a + 1, j: a, a + 1) to (i: a, j: a, i: a + 1, j: a + 1).
+                let v = _mm512_shuffle_f32x4::<0b11_01_10_00>(v, v);
+                let lo = _mm512_castps512_ps256(v);
+                let hi = _mm256_castpd_ps(_mm512_extractf64x4_pd::<1>(_mm512_castps_pd(v)));
+                let wf =
+                    _mm256_mask_broadcastss_ps(_mm256_set1_ps(w.wf[i]), 0xf0, _mm_set_ss(w.wf[j]));
+                let v = _mm256_add_ps(lo, _mm256_mul_ps(wf, _mm256_sub_ps(hi, lo)));
+                let (pi, pj) = (out.add(at[i]).cast::<f32>(), out.add(at[j]).cast::<f32>());
+                let sv = _mm256_loadu2_m128(pj, pi);
+                let k = _mm256_sub_ps(_mm256_set1_ps(1.0), _mm256_permute_ps::<0xff>(sv));
+                let new = _mm256_add_ps(sv, _mm256_mul_ps(k, v));
+                _mm256_storeu2_m128(pj, pi, new);
+                let m = _mm256_cmp_ps_mask::<_CMP_GE_OQ>(new, _mm256_set1_ps(OPAQUE));
+                counts += 2 | ((m >> 3 & 1) as u64 + (m >> 7 & 1) as u64) << 32;
+            }
+        }
+        // Long lanes and an odd one left: one at a time.
+        let mut single = (todo & w.long as u32) | pairs;
+        while single != 0 {
+            let i = single.trailing_zeros() as usize;
+            single &= single - 1;
+            // SAFETY: `at[i]` is inside `buf` (checked above); the caller's promises.
+            unsafe {
+                let p = out.add(at[i]);
+                counts += over(p, *p, entry(t, &w, f, i));
+            }
+        }
+        d.frags += counts & 0xffff_ffff;
+        d.opaque += (counts >> 32) as usize;
+    }
+
+    /// Table corner bases and weights of [`LANES`] lookups, as `PreintTable::prep` computes
+    /// them, in registers (calling `prep` here, with its `usize` bases, made 200k-tet frames'
+    /// tiles 13 % slower); bit `i` of `long` marks a lane past the length axis.
+    struct Weights {
+        /// The table's entries and the offsets of the next Sb and l, read from the table
+        /// once per batch rather than in the pixel loop, where a store to a pixel could make
+        /// the compiler read them again.
+        data: *const [f32; 4],
+        o1: usize,
+        o2: usize,
+        bases: [i32; LANES],
+        wf: [f32; LANES],
+        wb: [f32; LANES],
+        wl: [f32; LANES],
+        long: i32,
+    }
+
+    /// The [`Weights`] of fragments `f`.
+    ///
+    /// # Safety
+    /// The CPU has AVX2.
+    #[inline(always)]
+    unsafe fn weights(t: &PreintTable, f: &Lanes) -> Weights {
+        let load = |v: &[f32; LANES]| {
+            // SAFETY: `v` holds 8 floats, and the CPU has AVX (implied by AVX2, which this
+            // closure's caller promises).
+            unsafe { _mm256_loadu_ps(v.as_ptr()) }
+        };
+        let (sf, sb, l) = (load(&f[0]), load(&f[1]), load(&f[2]));
+        let s0 = _mm256_set1_ps(t.s0);
+        let inv_ds = _mm256_set1_ps(t.inv_ds);
+        let top = _mm256_set1_ps((t.ns - 1) as f32);
+        let xf = clamp0(_mm256_mul_ps(_mm256_sub_ps(sf, s0), inv_ds), top);
+        let xb = clamp0(_mm256_mul_ps(_mm256_sub_ps(sb, s0), inv_ds), top);
+        let ql = _mm256_mul_ps(l, _mm256_set1_ps(t.inv_dl));
+        let ltop = _mm256_set1_ps((t.nl - 1) as f32);
+        // Lanes past the length axis: `PreintTable::segment` replaces their lookup.
+        let long = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(ql, ltop));
+        let xl = clamp0(ql, ltop);
+        let (ns, nl) = (t.ns as i32, t.nl as i32);
+        // Truncation of values in [0, ns - 1] or [0, nl - 1], as `to_int_unchecked`.
+        let a = _mm256_min_epi32(_mm256_cvttps_epi32(xf), _mm256_set1_epi32(ns - 2));
+        let b = _mm256_min_epi32(_mm256_cvttps_epi32(xb), _mm256_set1_epi32(ns - 2));
+        let c = _mm256_min_epi32(_mm256_cvttps_epi32(xl), _mm256_set1_epi32(nl - 2));
+        let nsv = _mm256_set1_epi32(ns);
+        let base = _mm256_add_epi32(
+            _mm256_mullo_epi32(_mm256_add_epi32(_mm256_mullo_epi32(c, nsv), b), nsv),
+            a,
+        );
+        let mut w = Weights {
+            data: t.data.as_ptr(),
+            o1: t.ns,
+            o2: t.ns * t.ns,
+            bases: [0; LANES],
+            wf: [0.0; LANES],
+            wb: [0.0; LANES],
+            wl: [0.0; LANES],
+            long,
+        };
+        // SAFETY: `bases` holds 8 `i32`, each weight array 8 floats.
+        unsafe {
+            _mm256_storeu_si256(w.bases.as_mut_ptr().cast(), base);
+            _mm256_storeu_ps(w.wf.as_mut_ptr(), _mm256_sub_ps(xf, _mm256_cvtepi32_ps(a)));
+            _mm256_storeu_ps(w.wb.as_mut_ptr(), _mm256_sub_ps(xb, _mm256_cvtepi32_ps(b)));
+            _mm256_storeu_ps(w.wl.as_mut_ptr(), _mm256_sub_ps(xl, _mm256_cvtepi32_ps(c)));
+        }
+        w
+    }
+
+    /// Colour and opacity (premultiplied) of lane `i`: its table entry, or
+    /// `PreintTable::segment` for a long lane.
+    ///
+    /// # Safety
+    /// The CPU has AVX2, and [`fits`] holds for `t`; `w` is [`weights`] of `f`.
+    #[inline(always)]
+    unsafe fn entry(t: &PreintTable, w: &Weights, f: &Lanes, i: usize) -> __m128 {
+        if w.long >> i & 1 != 0 {
+            // SAFETY: 16 bytes.
+            return unsafe { _mm_loadu_ps(t.segment(f[0][i], f[1][i], f[2][i]).as_ptr()) };
+        }
+        let (o1, o2) = (w.o1, w.o2);
+        // SAFETY: the base is `(c ns + b) ns + a` with `a, b` in [0, ns - 2] and `c` in
+        // [0, nl - 2] (clamped in `weights`; `fits` makes the products exact in i32), so
+        // `base + ns ns + ns + 1 <= nl ns ns - 1 < data.len()`: every pair of entries read
+        // below (from `q + o` to `q + o + 1`) lies in the table.
+        unsafe {
+            let q = w.data.add(w.bases[i] as usize);
+            let c = |o: usize| _mm256_loadu_ps(q.add(o).cast());
+            let (tb, tl) = (_mm256_set1_ps(w.wb[i]), _mm256_set1_ps(w.wl[i]));
+            // Entries `a` and `a + 1` side by side: blended along Sb, then l, then (the two
+            // halves) along Sf, as `PreintTable::corners`.
+            let v = lerp(lerp(c(0), c(o1), tb), lerp(c(o2), c(o2 + o1), tb), tl);
+            let (lo, hi) = (_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+            _mm_add_ps(lo, _mm_mul_ps(_mm_set1_ps(w.wf[i]), _mm_sub_ps(hi, lo)))
+        }
+    }
+
+    /// Composites `v` behind pixel `p`, which holds `s`: the count word of one drawn fragment
+    /// (bit 32 set when the pixel turned opaque).
+    ///
+    /// # Safety
+    /// The CPU has AVX; `p` points to a pixel that holds `s`.
+    #[inline(always)]
+    unsafe fn over(p: *mut [f32; 4], s: [f32; 4], v: __m128) -> u64 {
+        // SAFETY: 16 bytes each.
+        let sv = unsafe { _mm_loadu_ps(s.as_ptr()) };
+        let new = _mm_add_ps(
+            sv,
+            _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(1.0), _mm_set1_ps(s[3])), v),
+        );
+        let mut r = [0f32; 4];
+        // SAFETY: 16 bytes each; `p` points to a pixel (the caller's promise).
+        unsafe {
+            _mm_storeu_ps(r.as_mut_ptr(), new);
+            *p = r;
+        }
+        1 | ((r[3] >= OPAQUE) as u64) << 32
     }
 }
 
@@ -526,6 +720,17 @@ pub(crate) mod tests {
                 // SAFETY: the CPU has AVX2 and `fits` holds, both checked just above.
                 same_as_lanes(&t, |t, f, at, n, buf, d| unsafe {
                     x86::composite_pre(t, f, at, n, buf, d)
+                });
+                paths += 1;
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+            {
+                // SAFETY: the CPU has AVX-512F and VL (so AVX2), checked just above, and
+                // `fits` holds (asserted above).
+                same_as_lanes(&t, |t, f, at, n, buf, d| unsafe {
+                    x86::composite_pre512(t, f, at, n, buf, d)
                 });
                 paths += 1;
             }
