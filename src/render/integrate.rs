@@ -542,6 +542,9 @@ pub struct PreintTable {
     pub lmax: f64,
     /// Index `(il * ns + ib) * ns + if_`.
     pub data: Vec<[f32; 4]>,
+    /// Per scalar bin `a`: the last bin `b` such that every entry with both scalar bins in
+    /// `[a, b]` (any length) is exactly zero, or `a - 1` (see [`Self::draws_nothing`]).
+    clear_to: Vec<i32>,
 }
 
 impl PreintTable {
@@ -646,6 +649,7 @@ impl PreintTable {
             },
             inv_dl: ((nl - 1) as f64 / lmax) as f32,
             lmax,
+            clear_to: clear_runs(&data, ns, nl),
             data,
         }
     }
@@ -682,6 +686,27 @@ impl PreintTable {
             }
         }
         acc
+    }
+
+    /// Whether every fragment of a tet whose vertex scalars span `[lo, hi]` is exactly zero
+    /// (colour and opacity), so that drawing it would change no pixel's bits: the transfer
+    /// function draws nothing over that range. Fragments take `Sf` and `Sb` clamped to
+    /// `[lo, hi]`, so their lookups read only entries whose scalar bins lie from `lo`'s bin to
+    /// one past `hi`'s ([`Self::locate`]'s arithmetic is monotone); one more bin on each side
+    /// covers the pieces of a fragment past the length axis, whose ends can round out of the
+    /// range. NaN draws something.
+    #[inline]
+    pub fn draws_nothing(&self, lo: f32, hi: f32) -> bool {
+        if !(lo <= hi) {
+            return false;
+        }
+        let top = (self.ns - 1) as f32;
+        let bin = |s: f32| {
+            let x = ((s - self.s0) * self.inv_ds).clamp(0.0, top);
+            (x as usize).min(self.ns - 2)
+        };
+        let (a, b) = (bin(lo).saturating_sub(1), (bin(hi) + 2).min(self.ns - 1));
+        self.clear_to.get(a).is_some_and(|&to| to >= b as i32)
     }
 
     /// Trilinear lookup (lengths clamped to the table's axis: see [`Self::segment`]).
@@ -729,6 +754,36 @@ impl PreintTable {
         };
         lerp4(side(0), side(1), tf)
     }
+}
+
+/// [`PreintTable`]'s `clear_to` for its entries `data` (`ns x ns x nl`): the square of bins
+/// `[a, b]^2` is all zero when `(a, a)` is, row `a` and column `a` are zero from `a` to `b`,
+/// and `[a + 1, b]^2` is all zero, so one pass from the last bin down finds every run.
+fn clear_runs(data: &[[f32; 4]], ns: usize, nl: usize) -> Vec<i32> {
+    // Whether the entries at scalar bins (Sf = i, Sb = j) are zero at every length.
+    let zero: Vec<bool> = (0..ns * ns)
+        .into_par_iter()
+        .map(|k| (0..nl).all(|il| data.get(il * ns * ns + k) == Some(&[0.0; 4])))
+        .collect();
+    let z = |i: usize, j: usize| zero[j * ns + i];
+    let mut to = vec![0i32; ns];
+    let mut next = ns as i32 - 1;
+    for a in (0..ns).rev() {
+        let run = |along: &dyn Fn(usize) -> bool| {
+            (a..ns)
+                .take_while(|&b| along(b))
+                .last()
+                .map_or(a as i32 - 1, |b| b as i32)
+        };
+        to[a] = if !z(a, a) {
+            a as i32 - 1
+        } else {
+            let inner = if next > a as i32 { next } else { a as i32 };
+            run(&|b| z(a, b)).min(run(&|b| z(b, a))).min(inner)
+        };
+        next = to[a];
+    }
+    to
 }
 
 /// Greatest common divisor.
@@ -1080,5 +1135,62 @@ mod tests {
         for k in 0..4 {
             assert!((g[k] as f64 - x[k]).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn a_range_drawn_as_nothing_gives_exact_zeros() {
+        // Opacity zero up to 40 % of [0, 2] (to 0.78125 after resampling to 65 nodes), a
+        // ramp after it.
+        let gap = build("viridis", "0:0,0.4:0,1:1", [0.0, 2.0], 0.5, 65);
+        let mut r = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            (r >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for (ns, nl) in [(128, 32), (33, 9), (2, 2)] {
+            let t = PreintTable::build(&gap, ns, nl, 1.5);
+            let lmax = t.lmax as f32;
+            let mut clear = 0;
+            for case in 0..20_000 {
+                let lo = rnd() * 2.2 - 0.1;
+                let hi = if case % 5 == 0 { lo } else { lo + rnd() * 0.4 };
+                if !t.draws_nothing(lo, hi) {
+                    continue;
+                }
+                clear += 1;
+                assert!(hi <= 0.78125, "{ns}x{nl}: [{lo}, {hi}] drawn as nothing");
+                // Any fragment a tet with this range can have: ends in the range (clamped to
+                // it, as the set-up does), any length, past the table's axis too.
+                for k in 0..40 {
+                    let pick = |u: f32| (lo + (hi - lo) * u).clamp(lo, hi);
+                    let (sf, sb) = match k {
+                        0 => (lo, hi),
+                        1 => (hi, lo),
+                        _ => (pick(rnd()), pick(rnd())),
+                    };
+                    let l = rnd() * 3.0 * lmax;
+                    assert_eq!(
+                        t.segment(sf, sb, l).map(f32::to_bits),
+                        [0; 4],
+                        "{ns}x{nl}: ({sf}, {sb}, {l}) of [{lo}, {hi}]"
+                    );
+                }
+            }
+            if ns >= 33 {
+                assert!(clear > 1000, "{ns}x{nl}: {clear} ranges drawn as nothing");
+                assert!(t.draws_nothing(0.1, 0.5) && t.draws_nothing(0.0, 0.0));
+                assert!(!t.draws_nothing(0.5, 1.0) && !t.draws_nothing(1.5, 1.6));
+            } else {
+                // Two bins span the whole range, which is drawn.
+                assert_eq!(clear, 0);
+            }
+            assert!(!t.draws_nothing(f32::NAN, 0.5) && !t.draws_nothing(0.1, f32::NAN));
+            assert!(!t.draws_nothing(0.3, 0.1), "an empty range is not a tet's");
+        }
+        // A function that draws everywhere leaves nothing out.
+        let t = PreintTable::build(&tf(), 65, 9, 1.0);
+        assert!(!(0..100).any(|i| t.draws_nothing(i as f32 * 0.02, i as f32 * 0.02)));
     }
 }

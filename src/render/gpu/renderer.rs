@@ -421,6 +421,7 @@ impl GpuRenderer {
             clipped: c[5] as u64,
             fragments: 0,
             hidden: 0,
+            clear: 0,
         };
         Ok((
             img,

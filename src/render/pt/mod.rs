@@ -79,6 +79,9 @@ pub struct PtStats {
     /// Tets not set up because every pixel they could cover was already opaque (the tile
     /// schedule's early termination; 0 elsewhere).
     pub hidden: u64,
+    /// Tets left out before set-up because the transfer function draws nothing over their
+    /// whole scalar range (every fragment exactly zero; not classified).
+    pub clear: u64,
 }
 
 impl PtStats {
@@ -89,6 +92,7 @@ impl PtStats {
         self.clipped += o.clipped;
         self.fragments += o.fragments;
         self.hidden += o.hidden;
+        self.clear += o.clear;
     }
 }
 

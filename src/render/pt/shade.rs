@@ -22,6 +22,18 @@ impl Shader {
         }
     }
 
+    /// Whether every fragment of a tet whose vertex scalars span `[lo, hi]` is exactly zero,
+    /// so the tet can be left out without changing any pixel's bits. Only the pre-integrated
+    /// table answers yes (where the transfer function draws nothing over the whole range); the
+    /// per-fragment modes always draw.
+    #[inline(always)]
+    pub fn draws_nothing(&self, lo: f32, hi: f32) -> bool {
+        match self {
+            Shader::Pre(tab) => tab.draws_nothing(lo, hi),
+            Shader::Average(_) | Shader::Linear(_) => false,
+        }
+    }
+
     /// Colour and opacity of one fragment.
     #[inline(always)]
     pub fn shade(&self, sf: f32, sb: f32, l: f32) -> [f32; 4] {

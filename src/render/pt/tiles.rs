@@ -79,8 +79,21 @@ impl Frame<'_> {
     /// set-up) and returns its pixel box, or `None` with nothing pushed when it draws nothing,
     /// or when every pixel it could cover is already `opaque`.
     #[inline(always)]
-    fn prepare_into(&self, t: u32, run: &mut Run, opaque: &Opaque) -> Option<PixelBox> {
+    fn prepare_into<D: TileDraw>(
+        &self,
+        t: u32,
+        run: &mut Run,
+        opaque: &Opaque,
+        d: &D,
+    ) -> Option<PixelBox> {
         let (pv, s) = self.vertices(t);
+        // The scalar range as the set-up rounds it (`TetSetup::smin`, `smax`).
+        let lo = s.iter().copied().fold(f64::INFINITY, f64::min) as f32;
+        let hi = s.iter().copied().fold(f64::NEG_INFINITY, f64::max) as f32;
+        if d.draws_nothing(lo, hi) {
+            run.stats.clear += 1;
+            return None;
+        }
         if pv.iter().any(|p| !p.ok) {
             run.stats.clipped += 1;
             let (c, b) = self.clip(pv, s)?;
@@ -163,6 +176,13 @@ impl Frame<'_> {
 pub(crate) trait TileDraw: Sync {
     /// What a tile counts besides fragments.
     type State: Default + Send;
+    /// Whether a tet whose vertex scalars span `[lo, hi]` draws nothing at all (every fragment
+    /// exactly zero), so binning can leave it out; no by default.
+    #[inline(always)]
+    fn draws_nothing(&self, _lo: f32, _hi: f32) -> bool {
+        false
+    }
+
     /// Draws record `k` of `run` into `buf` covering tile `ti` (pixel box `tile`): fragments
     /// and newly opaque pixels.
     fn draw(
@@ -184,6 +204,10 @@ pub(crate) struct PlainDraw<'a> {
 
 impl TileDraw for PlainDraw<'_> {
     type State = ();
+    #[inline(always)]
+    fn draws_nothing(&self, lo: f32, hi: f32) -> bool {
+        self.shader.draws_nothing(lo, hi)
+    }
     #[inline(always)]
     fn draw(
         &self,
@@ -291,7 +315,14 @@ const AHEAD: usize = 4;
 /// what it held but keeping its buffers. Tets whose every pixel is already `opaque` are left out
 /// (what they would draw is hidden).
 #[inline(always)]
-fn bin(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
+fn bin<D: TileDraw>(
+    frame: &Frame,
+    chunk: &[u32],
+    ntx: usize,
+    opaque: &Opaque,
+    d: &D,
+    run: &mut Run,
+) {
     run.recs.clear();
     run.tets.clear();
     run.clipped.clear();
@@ -314,7 +345,7 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run)
                 }
             }
         }
-        let Some((x0, y0, x1, y1)) = frame.prepare_into(t, run, opaque) else {
+        let Some((x0, y0, x1, y1)) = frame.prepare_into(t, run, opaque, d) else {
             continue;
         };
         let k = run.tets.len() as u32;
@@ -330,33 +361,54 @@ fn bin(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run)
 /// [`bin`] compiled for AVX2 (bit for bit the same, as [`draw_tile_avx2`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn bin_avx2(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
-    bin(frame, chunk, ntx, opaque, run)
+unsafe fn bin_avx2<D: TileDraw>(
+    frame: &Frame,
+    chunk: &[u32],
+    ntx: usize,
+    opaque: &Opaque,
+    d: &D,
+    run: &mut Run,
+) {
+    bin(frame, chunk, ntx, opaque, d, run)
 }
 
 /// [`bin`] compiled for AVX-512 (F and VL): with 32 vector registers the set-up's four-lane
 /// plane fits spill less. No fused multiply-add: bit for bit the same.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,avx512f,avx512vl")]
-unsafe fn bin_avx512(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
-    bin(frame, chunk, ntx, opaque, run)
+unsafe fn bin_avx512<D: TileDraw>(
+    frame: &Frame,
+    chunk: &[u32],
+    ntx: usize,
+    opaque: &Opaque,
+    d: &D,
+    run: &mut Run,
+) {
+    bin(frame, chunk, ntx, opaque, d, run)
 }
 
 /// [`bin`] with the widest instruction set the CPU has.
-fn bin_best(frame: &Frame, chunk: &[u32], ntx: usize, opaque: &Opaque, run: &mut Run) {
+fn bin_best<D: TileDraw>(
+    frame: &Frame,
+    chunk: &[u32],
+    ntx: usize,
+    opaque: &Opaque,
+    d: &D,
+    run: &mut Run,
+) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx512f")
         && std::arch::is_x86_feature_detected!("avx512vl")
     {
         // SAFETY: the CPU has AVX-512F and VL (and so AVX2), checked just above.
-        return unsafe { bin_avx512(frame, chunk, ntx, opaque, run) };
+        return unsafe { bin_avx512(frame, chunk, ntx, opaque, d, run) };
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { bin_avx2(frame, chunk, ntx, opaque, run) };
+        return unsafe { bin_avx2(frame, chunk, ntx, opaque, d, run) };
     }
-    bin(frame, chunk, ntx, opaque, run)
+    bin(frame, chunk, ntx, opaque, d, run)
 }
 
 /// A tile being drawn across the waves of a frame.
@@ -531,7 +583,7 @@ fn render_tiles_hiding<D: TileDraw>(
         runs[..used]
             .par_iter_mut()
             .zip(wave.par_chunks(CHUNK))
-            .for_each(|(run, chunk)| bin_best(frame, chunk, ntx, &opaque, run));
+            .for_each(|(run, chunk)| bin_best(frame, chunk, ntx, &opaque, d, run));
         for run in &runs[..used] {
             stats.add(&run.stats);
         }
@@ -647,6 +699,100 @@ mod tests {
             .pixels
             .iter()
             .any(|p| p[3] > 0.0 && p[3] < super::super::OPAQUE));
+        Ok(())
+    }
+
+    /// The plain path, but drawing every tet.
+    struct EveryTet<'a>(PlainDraw<'a>);
+    impl TileDraw for EveryTet<'_> {
+        type State = ();
+        fn draw(
+            &self,
+            state: &mut (),
+            ti: usize,
+            run: &Run,
+            k: usize,
+            tile: Tile,
+            buf: &mut [[f32; 4]],
+        ) -> (u64, usize) {
+            self.0.draw(state, ti, run, k, tile, buf)
+        }
+    }
+
+    #[test]
+    fn tets_drawn_as_nothing_are_left_out_without_changing_the_image() -> anyhow::Result<()> {
+        // The scalar is x; the transfer function draws nothing for x below 0.45 (to 0.4375
+        // after resampling to 17 nodes).
+        let n = 20;
+        let m = structured_grid([n; 3], [0.0; 3], [1.0; 3]);
+        let s: Vec<f64> = m.points.iter().map(|p| p[0]).collect();
+        let tf = TransferFunction::build(
+            &named_colormap("viridis")?,
+            Some(&OpacitySpec::parse(
+                "0:0,0.45:0,0.6:0.5,0.7:0.1,0.9:1,1:0.2",
+            )?),
+            [0.0, 1.0],
+            0.05,
+            17,
+        )?;
+        let shader = Shader::Pre(PreintTable::build(&tf, 65, 17, 0.2));
+        let mut cam = Camera::default();
+        cam.reset_to(&m.bounds());
+        cam.azimuth(30.0);
+        cam.elevation(20.0);
+        let view = View::new(&cam, 96, 80);
+        let order = Sorter::new(&m, None)?
+            .order(&cam, Method::Mpvo, Direction::FrontToBack)
+            .order;
+        for field in [
+            Field::Point(s),
+            Field::Cell(
+                (0..m.tets.len())
+                    .map(|t| m.points[m.tets[t][0] as usize][0])
+                    .collect(),
+            ),
+        ] {
+            let proj = project_points(&view, &m.points);
+            let stretch = stretch_map(&view);
+            let frame = Frame {
+                view: &view,
+                tets: &m.tets,
+                field: &field,
+                proj: &proj,
+                stretch: &stretch,
+            };
+            let plain = PlainDraw {
+                frame: &frame,
+                shader: &shader,
+            };
+            let (a, sa, _, _) = render_tiles(&frame, &order, &plain);
+            let every = EveryTet(PlainDraw {
+                frame: &frame,
+                shader: &shader,
+            });
+            let (b, sb, _, _) = render_tiles(&frame, &order, &every);
+            let bits = |img: &Image| {
+                img.pixels
+                    .iter()
+                    .map(|p| p.map(f32::to_bits))
+                    .collect::<Vec<_>>()
+            };
+            assert!(bits(&a) == bits(&b), "leaving tets out changed the image");
+            assert_eq!(sb.clear, 0);
+            // The 8 of 20 cell layers below x = 0.4 are left out; the next one's point values
+            // reach past 0.4375, but its cell values (x at the first vertex, the layer's low
+            // side) do not.
+            let nt = m.tets.len() as u64;
+            let layers = if matches!(field, Field::Point(_)) {
+                8
+            } else {
+                9
+            };
+            assert_eq!(sa.clear, nt * layers / 20);
+            assert_eq!(sa.class.iter().sum::<u64>() + sa.clear, nt);
+            assert!(sa.fragments < sb.fragments);
+            assert!(a.pixels.iter().any(|p| p[3] > 0.0), "something is drawn");
+        }
         Ok(())
     }
 
