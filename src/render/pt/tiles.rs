@@ -632,10 +632,39 @@ mod tests {
     use super::*;
     use crate::camera::Camera;
     use crate::mesh::generate::structured_grid;
+    use crate::mesh::TetMesh;
     use crate::render::integrate::PreintTable;
     use crate::render::pt::{project_points, stretch_map};
     use crate::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
     use crate::sort::{Direction, Method, Sorter};
+
+    /// A 96x80 view of `m` from azimuth 30 and elevation 20, and its MPVO order front to back.
+    fn view_and_order(m: &TetMesh) -> anyhow::Result<(View, Vec<u32>)> {
+        let mut cam = Camera::default();
+        cam.reset_to(&m.bounds());
+        cam.azimuth(30.0);
+        cam.elevation(20.0);
+        let order = Sorter::new(m, None)?
+            .order(&cam, Method::Mpvo, Direction::FrontToBack)
+            .order;
+        Ok((View::new(&cam, 96, 80), order))
+    }
+
+    /// A pre-integrated shader (65 x 17 table) for `opacity` over [0, 1], viridis.
+    fn table(opacity: &str, unit: f64, nodes: usize, lmax: f64) -> anyhow::Result<Shader> {
+        let tf = TransferFunction::build(
+            &named_colormap("viridis")?,
+            Some(&OpacitySpec::parse(opacity)?),
+            [0.0, 1.0],
+            unit,
+            nodes,
+        )?;
+        Ok(Shader::Pre(PreintTable::build(&tf, 65, 17, lmax)))
+    }
+
+    fn bits(img: &Image) -> Vec<[u32; 4]> {
+        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
+    }
 
     #[test]
     fn tets_behind_opaque_blocks_are_skipped_without_changing_the_image() -> anyhow::Result<()> {
@@ -646,22 +675,8 @@ mod tests {
         let m = structured_grid([n; 3], [0.0; 3], [1.0; 3]);
         assert!(m.tets.len() > 2 * CHUNK * WAVE, "{} tets", m.tets.len());
         let s: Vec<f64> = m.points.iter().map(|p| p[0]).collect();
-        let tf = TransferFunction::build(
-            &named_colormap("viridis")?,
-            Some(&OpacitySpec::parse("0:0.01,0.45:0.01,0.55:1,1:1")?),
-            [0.0, 1.0],
-            0.02,
-            9,
-        )?;
-        let shader = Shader::Pre(PreintTable::build(&tf, 65, 17, 0.1));
-        let mut cam = Camera::default();
-        cam.reset_to(&m.bounds());
-        cam.azimuth(30.0);
-        cam.elevation(20.0);
-        let view = View::new(&cam, 96, 80);
-        let order = Sorter::new(&m, None)?
-            .order(&cam, Method::Mpvo, Direction::FrontToBack)
-            .order;
+        let shader = table("0:0.01,0.45:0.01,0.55:1,1:1", 0.02, 9, 0.1)?;
+        let (view, order) = view_and_order(&m)?;
         let field = Field::Point(s);
         let proj = project_points(&view, &m.points);
         let stretch = stretch_map(&view);
@@ -678,12 +693,6 @@ mod tests {
         };
         let (a, sa, _, _) = render_tiles_hiding(&frame, &order, &plain, true);
         let (b, sb, _, _) = render_tiles_hiding(&frame, &order, &plain, false);
-        let bits = |img: &Image| {
-            img.pixels
-                .iter()
-                .map(|p| p.map(f32::to_bits))
-                .collect::<Vec<_>>()
-        };
         assert!(bits(&a) == bits(&b), "the skipped tets changed the image");
         assert_eq!(sb.hidden, 0);
         // Every tet's class is counted, hidden or not; fragments are the drawn ones.
@@ -726,24 +735,8 @@ mod tests {
         let n = 20;
         let m = structured_grid([n; 3], [0.0; 3], [1.0; 3]);
         let s: Vec<f64> = m.points.iter().map(|p| p[0]).collect();
-        let tf = TransferFunction::build(
-            &named_colormap("viridis")?,
-            Some(&OpacitySpec::parse(
-                "0:0,0.45:0,0.6:0.5,0.7:0.1,0.9:1,1:0.2",
-            )?),
-            [0.0, 1.0],
-            0.05,
-            17,
-        )?;
-        let shader = Shader::Pre(PreintTable::build(&tf, 65, 17, 0.2));
-        let mut cam = Camera::default();
-        cam.reset_to(&m.bounds());
-        cam.azimuth(30.0);
-        cam.elevation(20.0);
-        let view = View::new(&cam, 96, 80);
-        let order = Sorter::new(&m, None)?
-            .order(&cam, Method::Mpvo, Direction::FrontToBack)
-            .order;
+        let shader = table("0:0,0.45:0,0.6:0.5,0.7:0.1,0.9:1,1:0.2", 0.05, 17, 0.2)?;
+        let (view, order) = view_and_order(&m)?;
         for field in [
             Field::Point(s),
             Field::Cell(
@@ -771,12 +764,6 @@ mod tests {
                 shader: &shader,
             });
             let (b, sb, _, _) = render_tiles(&frame, &order, &every);
-            let bits = |img: &Image| {
-                img.pixels
-                    .iter()
-                    .map(|p| p.map(f32::to_bits))
-                    .collect::<Vec<_>>()
-            };
             assert!(bits(&a) == bits(&b), "leaving tets out changed the image");
             assert_eq!(sb.clear, 0);
             // The 8 of 20 cell layers below x = 0.4 are left out; the next one's point values
