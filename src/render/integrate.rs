@@ -700,11 +700,7 @@ impl PreintTable {
         if !(lo <= hi) {
             return false;
         }
-        let top = (self.ns - 1) as f32;
-        let bin = |s: f32| {
-            let x = ((s - self.s0) * self.inv_ds).clamp(0.0, top);
-            (x as usize).min(self.ns - 2)
-        };
+        let bin = |s: f32| (self.scalar_pos(s) as usize).min(self.ns - 2);
         let (a, b) = (bin(lo).saturating_sub(1), (bin(hi) + 2).min(self.ns - 1));
         self.clear_to.get(a).is_some_and(|&to| to >= b as i32)
     }
@@ -716,12 +712,17 @@ impl PreintTable {
         self.corners(base, wf, wb, wl)
     }
 
+    /// Position of scalar `s` on the table's scalar axis, in bins, clamped to it (monotone in
+    /// `s`, which [`Self::draws_nothing`] relies on).
+    #[inline(always)]
+    fn scalar_pos(&self, s: f32) -> f32 {
+        ((s - self.s0) * self.inv_ds).clamp(0.0, (self.ns - 1) as f32)
+    }
+
     /// The `base` of [`Self::corners`] and the weights for a lookup.
     #[inline(always)]
     fn locate(&self, sf: f32, sb: f32, l: f32) -> (usize, f32, f32, f32) {
-        let top = (self.ns - 1) as f32;
-        let xf = ((sf - self.s0) * self.inv_ds).clamp(0.0, top);
-        let xb = ((sb - self.s0) * self.inv_ds).clamp(0.0, top);
+        let (xf, xb) = (self.scalar_pos(sf), self.scalar_pos(sb));
         let xl = (l * self.inv_dl).clamp(0.0, (self.nl - 1) as f32);
         let (i, j, k) = (
             (xf as usize).min(self.ns - 2),

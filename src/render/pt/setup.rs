@@ -250,7 +250,16 @@ pub(crate) fn setup_tet(
     stats: &mut PtStats,
     out: &mut Prepared,
 ) -> Option<PixelBox> {
-    setup_tet_unless(view, pv, s, stats, out, |_| false)
+    setup_tet_unless(view, pv, s, scalar_range(&s), stats, out, |_| false)
+}
+
+/// The tet's scalar range `[min, max]` of its vertex values, as the set-up stores it in f32
+/// (`TetSetup::smin`, `smax`); NaN where a value is NaN.
+#[inline(always)]
+pub(crate) fn scalar_range(s: &[f64; 4]) -> (f32, f32) {
+    let smin = s.iter().copied().fold(f64::INFINITY, f64::min);
+    let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (smin as f32, smax as f32)
 }
 
 /// [`setup_tet`], but a tet whose pixel bounds `hidden` calls hidden (every pixel there already
@@ -261,6 +270,7 @@ pub(crate) fn setup_tet_unless(
     view: &View,
     pv: &[&Projected; 4],
     s: [f64; 4],
+    (smin, smax): (f32, f32),
     stats: &mut PtStats,
     out: &mut Prepared,
     hidden: impl Fn(PixelBox) -> bool,
@@ -421,8 +431,6 @@ pub(crate) fn setup_tet_unless(
         let sr0 = s[0] + dt(g, sub(d0, v0));
         ([sr0, z0 * hx, z0 * hy], [h0, hx, hy])
     };
-    let smin = s.iter().copied().fold(f64::INFINITY, f64::min);
-    let smax = s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     out.poly = poly;
     out.sref = sref.map(|x| x as f32);
     // Per unit of depth offset, which is `zunit` (exact: a power of two).
@@ -430,8 +438,8 @@ pub(crate) fn setup_tet_unless(
     out.ox = ox as f32;
     out.oy = oy as f32;
     out.w0 = w0 as f32;
-    out.smin = smin as f32;
-    out.smax = smax as f32;
+    out.smin = smin;
+    out.smax = smax;
     out.nedges = nedges;
     out.nf = nf as u8;
     out.nb = nb as u8;

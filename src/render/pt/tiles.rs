@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use super::clip::{clip_box, ClipSetup};
-use super::setup::{setup_tet, setup_tet_unless, Prepared, TetSetup};
+use super::setup::{scalar_range, setup_tet, setup_tet_unless, Prepared, TetSetup};
 use super::shade::Shader;
 use super::{huge_pages, prefetch, PixelBox, Projected, PtStats, View, TILE};
 use crate::render::field::Field;
@@ -87,10 +87,8 @@ impl Frame<'_> {
         d: &D,
     ) -> Option<PixelBox> {
         let (pv, s) = self.vertices(t);
-        // The scalar range as the set-up rounds it (`TetSetup::smin`, `smax`).
-        let lo = s.iter().copied().fold(f64::INFINITY, f64::min) as f32;
-        let hi = s.iter().copied().fold(f64::NEG_INFINITY, f64::max) as f32;
-        if d.draws_nothing(lo, hi) {
+        let range = scalar_range(&s);
+        if d.draws_nothing(range.0, range.1) {
             run.stats.clear += 1;
             return None;
         }
@@ -108,6 +106,7 @@ impl Frame<'_> {
             self.view,
             &pv,
             s,
+            range,
             &mut run.stats,
             &mut run.recs[n - 1],
             |b| opaque.hides(b),
