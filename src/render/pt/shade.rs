@@ -23,14 +23,14 @@ impl Shader {
     }
 
     /// Whether every fragment of a tet whose vertex scalars span `[lo, hi]` is exactly zero,
-    /// so the tet can be left out without changing any pixel's bits. Only the pre-integrated
-    /// table answers yes (where the transfer function draws nothing over the whole range); the
-    /// per-fragment modes always draw.
+    /// so the tet can be left out without changing any pixel's bits: where the transfer
+    /// function draws nothing over the whole range, as the pre-integrated table or the
+    /// per-fragment modes' node arrays find it.
     #[inline(always)]
     pub fn draws_nothing(&self, lo: f32, hi: f32) -> bool {
         match self {
             Shader::Pre(tab) => tab.draws_nothing(lo, hi),
-            Shader::Average(_) | Shader::Linear(_) => false,
+            Shader::Average(tf) | Shader::Linear(tf) => tf.draws_nothing(lo, hi),
         }
     }
 

@@ -632,7 +632,7 @@ mod tests {
     use crate::camera::Camera;
     use crate::mesh::generate::structured_grid;
     use crate::mesh::TetMesh;
-    use crate::render::integrate::PreintTable;
+    use crate::render::integrate::{FastTf, PreintTable};
     use crate::render::pt::{project_points, stretch_map};
     use crate::render::transfer::{named_colormap, OpacitySpec, TransferFunction};
     use crate::sort::{Direction, Method, Sorter};
@@ -650,14 +650,18 @@ mod tests {
     }
 
     /// A pre-integrated shader (65 x 17 table) for `opacity` over [0, 1], viridis.
-    fn table(opacity: &str, unit: f64, nodes: usize, lmax: f64) -> anyhow::Result<Shader> {
-        let tf = TransferFunction::build(
+    fn tf(opacity: &str, unit: f64, nodes: usize) -> anyhow::Result<TransferFunction> {
+        TransferFunction::build(
             &named_colormap("viridis")?,
             Some(&OpacitySpec::parse(opacity)?),
             [0.0, 1.0],
             unit,
             nodes,
-        )?;
+        )
+    }
+
+    fn table(opacity: &str, unit: f64, nodes: usize, lmax: f64) -> anyhow::Result<Shader> {
+        let tf = tf(opacity, unit, nodes)?;
         Ok(Shader::Pre(PreintTable::build(&tf, 65, 17, lmax)))
     }
 
@@ -730,20 +734,29 @@ mod tests {
     #[test]
     fn tets_drawn_as_nothing_are_left_out_without_changing_the_image() -> anyhow::Result<()> {
         // The scalar is x; the transfer function draws nothing for x below 0.45 (to 0.4375
-        // after resampling to 17 nodes).
+        // after resampling to 17 nodes), in every integration mode.
         let n = 20;
         let m = structured_grid([n; 3], [0.0; 3], [1.0; 3]);
         let s: Vec<f64> = m.points.iter().map(|p| p[0]).collect();
-        let shader = table("0:0,0.45:0,0.6:0.5,0.7:0.1,0.9:1,1:0.2", 0.05, 17, 0.2)?;
+        let opacity = "0:0,0.45:0,0.6:0.5,0.7:0.1,0.9:1,1:0.2";
+        let fast = FastTf::new(&tf(opacity, 0.05, 17)?);
+        let shaders = [
+            table(opacity, 0.05, 17, 0.2)?,
+            Shader::Average(fast.clone()),
+            Shader::Linear(fast),
+        ];
         let (view, order) = view_and_order(&m)?;
-        for field in [
-            Field::Point(s),
-            Field::Cell(
-                (0..m.tets.len())
-                    .map(|t| m.points[m.tets[t][0] as usize][0])
-                    .collect(),
-            ),
-        ] {
+        for (shader, field) in shaders.iter().flat_map(|sh| {
+            [
+                Field::Point(s.clone()),
+                Field::Cell(
+                    (0..m.tets.len())
+                        .map(|t| m.points[m.tets[t][0] as usize][0])
+                        .collect(),
+                ),
+            ]
+            .map(|f| (sh, f))
+        }) {
             let proj = project_points(&view, &m.points);
             let stretch = stretch_map(&view);
             let frame = Frame {
@@ -755,12 +768,12 @@ mod tests {
             };
             let plain = PlainDraw {
                 frame: &frame,
-                shader: &shader,
+                shader,
             };
             let (a, sa, _, _) = render_tiles(&frame, &order, &plain);
             let every = EveryTet(PlainDraw {
                 frame: &frame,
-                shader: &shader,
+                shader,
             });
             let (b, sb, _, _) = render_tiles(&frame, &order, &every);
             assert!(bits(&a) == bits(&b), "leaving tets out changed the image");
