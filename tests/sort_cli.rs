@@ -350,3 +350,57 @@ fn rays_grazing_shared_edges_on_a_symmetry_plane_are_not_violations() {
     let (v, _) = check("centroid", "front-to-back");
     assert!(v > 1000, "centroid: {v} violations");
 }
+
+#[test]
+fn outputs_that_cannot_hold_the_order_are_refused() {
+    // TetGen's .ele would keep the order as nameless attributes (read back as `region`) and
+    // Medit drops it: a sort written there would check as some other order.
+    let mesh = fixture("tetgen/torus.1.ele");
+    let dir = tempdir();
+    for (name, needle) in [
+        ("o.node", "TetGen file cannot hold"),
+        ("o.ele", "TetGen file cannot hold"),
+        ("o.mesh", "Medit file cannot hold"),
+        ("o.msh", "does not write Gmsh MSH"),
+    ] {
+        let out = dir.path().join(name);
+        tetkit([
+            "sort".as_ref(),
+            mesh.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ])
+        .assert_failure(&[
+            name,
+            needle,
+            if name.ends_with(".msh") {
+                "tetkit does not write"
+            } else {
+                "visibility_order"
+            },
+            "write .vtu, .pvtu or .vtk",
+        ]);
+        assert_eq!(
+            common::dir_listing(dir.path()),
+            Vec::<String>::new(),
+            "{name}"
+        );
+    }
+    // A file without an order is checked through tetkit's own sort, and says so.
+    let r = tetkit([
+        "check-order".as_ref(),
+        mesh.as_os_str(),
+        "--rays=400".as_ref(),
+        "--json".as_ref(),
+    ]);
+    r.assert_success();
+    assert!(
+        r.stderr.contains("no cell array visibility_order"),
+        "{}",
+        r.stderr
+    );
+    assert_eq!(
+        json(&r)["checked"],
+        "no visibility_order in the file; tetkit's kd sort"
+    );
+}

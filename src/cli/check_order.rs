@@ -85,12 +85,23 @@ pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
         }
         (m, _) => {
             let method = m.unwrap_or(Method::Kd);
+            let what = if m.is_none() {
+                // A file written where the order could not be kept (or never sorted) must
+                // not pass for a checked order: say whose order this is.
+                eprintln!(
+                    "tetkit: note: {}: no cell array visibility_order (what `tetkit sort` writes to .vtu, .pvtu or .vtk); checking tetkit's own kd sort of the mesh instead",
+                    args.input.display()
+                );
+                "no visibility_order in the file; tetkit's kd sort".to_string()
+            } else {
+                format!("{method:?} sort")
+            };
             let sorter = Sorter::new(&mesh, tree.as_ref())?;
             let o = sorter.order(&cam, method, args.direction);
             (
                 o.ranks(),
                 args.direction == Direction::FrontToBack,
-                format!("{method:?} sort"),
+                what,
                 Some(o.stats),
             )
         }

@@ -30,6 +30,10 @@ pub struct ClassifyArgs {
 }
 
 pub fn run(args: &ClassifyArgs) -> anyhow::Result<()> {
+    super::require_named_arrays(
+        &args.output,
+        "classify's result is the cell array region_code",
+    )?;
     let scene = scene::load(&args.scene)?;
     let grid = super::read_input(&args.input)?;
     // Meshes with other cells (TetGen's .face triangles, Gmsh's boundary elements, quadratic

@@ -91,6 +91,23 @@ fn default_sigpipe() {
     }
 }
 
+/// Refuses an output whose format cannot hold named cell arrays (TetGen's `.ele` keeps
+/// attributes without names, Medit keeps only its refs): a command whose result is the arrays
+/// `what` names must not write a file that silently drops or renames them.
+pub fn require_named_arrays(path: &std::path::Path, what: &str) -> anyhow::Result<()> {
+    use formats::Format;
+    let format = Format::from_path(path)?;
+    if !matches!(format, Format::Vtu | Format::Pvtu | Format::Legacy) {
+        let why = if format.read_only() {
+            format!("tetkit does not write {} files", format.name())
+        } else {
+            format!("{what}, which a {} file cannot hold by name", format.name())
+        };
+        anyhow::bail!("{}: {why}; write .vtu, .pvtu or .vtk", path.display());
+    }
+    Ok(())
+}
+
 /// Reads a mesh from a path, or from stdin for `-` (VTU, legacy VTK, Medit, Gmsh MSH or Exodus
 /// II, sniffed from the content).
 pub fn read_input(path: &std::path::Path) -> anyhow::Result<formats::Grid> {

@@ -98,9 +98,10 @@ pub struct LookArgs {
     /// Transfer-function nodes (piecewise linear between them).
     #[arg(long, default_value_t = 64, value_name = "K", value_parser = parse_tf_nodes_arg)]
     pub tf_nodes: usize,
-    /// Pre-integration table size SCALARxLENGTH.
-    #[arg(long, default_value = "128x32", value_name = "SxL")]
-    pub table: TableSize,
+    /// Pre-integration table size SCALARxLENGTH [default: 128x32, with more length steps (up
+    /// to 256) where a step of 32 would be optically thick].
+    #[arg(long, value_name = "SxL")]
+    pub table: Option<TableSize>,
     /// How PT shares a frame among threads: screen tiles honouring the global order, or runs of
     /// the order in separate buffers composited in order.
     #[arg(long, value_enum, default_value = "tiles")]
@@ -257,6 +258,9 @@ pub struct Session {
     pub tf: TransferFunction,
     /// What `tf` was built from, for bodies' transfer functions to inherit.
     pub base: BaseLook,
+    /// Size of the pre-integration tables: `--table`, or the default fitted to the mesh and
+    /// transfer function ([`prepare::table_size`]).
+    pub table: TableSize,
     /// Length axis of the pre-integration tables ([`prepare::table_length`]).
     pub lmax: f64,
     /// Subtracted from `field` and from every transfer function's scalars
@@ -381,13 +385,14 @@ impl Session {
             unit_distance: unit,
             nodes: look.tf_nodes,
         };
-        let lmax = prepare::table_length(&mesh, &tf, look.table.length);
+        let (table, lmax) = prepare::table_size(&mesh, &tf, look.table);
         Ok(Session {
             mesh,
             field_name,
             field,
             tf,
             base,
+            table,
             lmax,
             scalar_offset,
             read_s: t0.elapsed().as_secs_f64(),
@@ -525,7 +530,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 _ => Some(session.sorter()?),
             };
             let t_table = Instant::now();
-            let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
+            let shader =
+                prepare::shader(&session.tf, args.integration, session.table, session.lmax);
             let table_s = t_table.elapsed().as_secs_f64();
             let mut gpu = open_gpu(args.device, &session, &shader, look.quiet)?;
             let setup = t_setup.elapsed().as_secs_f64();
@@ -565,10 +571,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             summary.insert(
                 0,
                 format!(
-                    "{} tets, array '{}', read {:.3} s, setup (adjacency, leaves, table) {setup:.3} s, of which table {table_s:.3} s",
+                    "{} tets, array '{}', read {:.3} s, setup (adjacency, leaves, table) {setup:.3} s, of which table {table_s:.3} s{}",
                     session.mesh.tets.len(),
                     session.field_name,
-                    session.read_s
+                    session.read_s,
+                    if args.integration == Integration::Preintegrated {
+                        let t = session.table;
+                        format!(" ({}x{}x{} entries)", t.scalar, t.scalar, t.length)
+                    } else {
+                        String::new()
+                    }
                 ),
             );
         }
@@ -581,8 +593,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             let table = (args.ray_integration == RayIntegration::Preintegrated).then(|| {
                 PreintTable::build(
                     &session.tf,
-                    look.table.scalar,
-                    look.table.length,
+                    session.table.scalar,
+                    session.table.length,
                     session.lmax * 1.0001,
                 )
             });

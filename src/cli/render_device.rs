@@ -86,7 +86,7 @@ pub fn scene_gpu(
         (DeviceChoice::Auto, MethodChoice::Raycast) => return Ok(false),
         _ => {}
     }
-    let shader = prepare::shader(&session.tf, args.integration, look.table, session.lmax);
+    let shader = prepare::shader(&session.tf, args.integration, session.table, session.lmax);
     let Some(mut gpu) = open_gpu(args.device, session, &shader, look.quiet)? else {
         return Ok(false);
     };
@@ -97,7 +97,7 @@ pub fn scene_gpu(
         SortChoice::None => None,
         _ => Some(session.sorter()?),
     };
-    let mut tables = SceneTables::new(args.integration, look.table, session.lmax);
+    let mut tables = SceneTables::new(args.integration, session.table, session.lmax);
     let frames = args.orbit.unwrap_or(1);
     let (w, h) = look.size;
     let bits = scene.bodies.len();

@@ -67,11 +67,11 @@ pub fn run(
             };
             // The default's table is what the plain path would build; bodies' are built when a
             // frame first needs them.
-            let mut cache = ShaderCache::new(args.integration, look.table, session.lmax)
+            let mut cache = ShaderCache::new(args.integration, session.table, session.lmax)
                 .with_default(crate::render::prepare::shader(
                     &session.tf,
                     args.integration,
-                    look.table,
+                    session.table,
                     session.lmax,
                 ));
             summary.push(format!(

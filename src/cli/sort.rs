@@ -18,7 +18,8 @@ pub struct SortArgs {
     /// Input tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts); a split mesh from `tetkit partition`
     /// carries its K-D tree in field data and its leaves in the cell array `leaf_id`.
     pub input: PathBuf,
-    /// Output .vtu (or .vtk): the input with cell data visibility_order, layer and leaf_id added.
+    /// Output .vtu, .pvtu or .vtk: the input with cell data visibility_order, layer and leaf_id
+    /// added (formats that cannot hold named arrays are refused).
     #[arg(short, long)]
     pub output: PathBuf,
     #[command(flatten)]
@@ -95,6 +96,10 @@ pub fn annotate(grid: &mut formats::Grid, order: &Order, dir: Direction) {
 }
 
 pub fn run(args: &SortArgs) -> anyhow::Result<()> {
+    super::require_named_arrays(
+        &args.output,
+        "sort's result is the cell arrays visibility_order, layer and leaf_id",
+    )?;
     let (mut grid, mesh, tree) = load(&args.input)?;
     let cam = args
         .camera

@@ -97,7 +97,7 @@ fn measure(
     let sorter = session.sorter()?;
     let shaders: Vec<_> = Integration::ALL
         .iter()
-        .map(|&m| prepare::shader(&session.tf, m, look.table, session.lmax))
+        .map(|&m| prepare::shader(&session.tf, m, session.table, session.lmax))
         .collect();
     let pt_setup = t.elapsed().as_secs_f64();
     progress.step("setup");

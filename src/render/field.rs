@@ -29,14 +29,27 @@ fn values(a: &DataArray) -> Result<Vec<f64>> {
     })
 }
 
-/// Arrays the default `--scalar` passes over (they can still be named).
-const BOOKKEEPING: [&str; 6] = [
+/// Arrays the default `--scalar` passes over (they can still be named): ids and flags that
+/// tetkit, VTK's filters and the readers add, which colour a mesh as noise. Region labels
+/// (Gmsh physical groups, Exodus block ids, Medit refs, TetGen regions) are kept: they are
+/// what the mesh's author chose to mark.
+const BOOKKEEPING: [&str; 16] = [
     "original_cell_id",
     "leaf_id",
     "vtkGhostType",
     "vtkOriginalCellIds",
     "vtkOriginalPointIds",
     "BlockIdScalars",
+    formats::msh::names::NODE_TAG,
+    formats::msh::names::ELEMENT_TAG,
+    formats::msh::names::GEOMETRICAL,
+    formats::exodus::names::NODE_ID,
+    formats::exodus::names::ELEMENT_ID,
+    formats::tetgen::names::BOUNDARY_MARKER,
+    formats::tetgen::names::NEIGHBORS,
+    formats::medit::names::CORNER,
+    formats::medit::names::RIDGE,
+    formats::medit::names::REQUIRED,
 ];
 
 impl Field {
@@ -239,9 +252,27 @@ mod tests {
             m.cell_data
                 .insert(DataArray::new(name, 1, ArrayData::Int64(vec![7])));
         }
+        // The readers' point ids too (a Gmsh mesh's node tags, Exodus's node map).
+        for name in [
+            formats::msh::names::NODE_TAG,
+            formats::exodus::names::NODE_ID,
+        ] {
+            m.point_data
+                .insert(DataArray::new(name, 1, ArrayData::Int64(vec![1, 2, 3, 4])));
+        }
         let (name, f) = Field::select(&m, None).unwrap();
         assert_eq!(name, "(solid colour)");
         assert_eq!(f.at(0, &m.tets[0]), [0.0; 4]);
+        // A region label is what its author marked: drawn.
+        let mut labelled = m.clone();
+        labelled.cell_data.insert(DataArray::new(
+            formats::msh::names::PHYSICAL,
+            1,
+            ArrayData::Int32(vec![2]),
+        ));
+        assert!(
+            matches!(Field::select(&labelled, None), Ok((n, _)) if n == formats::msh::names::PHYSICAL)
+        );
         // A real array after them is the one drawn, and a named id still is.
         m.cell_data
             .insert(DataArray::new("pressure", 1, ArrayData::Float32(vec![2.5])));

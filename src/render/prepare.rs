@@ -117,6 +117,36 @@ pub fn table_length(mesh: &TetMesh, tf: &TransferFunction, steps: usize) -> f64 
     }
 }
 
+/// Most length steps the default table grows to (128 x 128 x 256 entries: 64 MiB).
+const MAX_DEFAULT_STEPS: usize = 256;
+
+/// The pre-integration table's size and length axis: `asked` (`--table`) as given, or the
+/// default's scalar axis with enough length steps that one step over the longest tet edge is
+/// at most [`STEP_DEPTH`] optical depths at the function's densest (at least the default's
+/// 32, at most [`MAX_DEFAULT_STEPS`]). Interpolation along the length errs by about the
+/// square of a step's depth: on a coarse block of 24 tets seen at 64x64 with the default ramp
+/// (a step of 32 about 1.1 optical depths), 32 steps were 11/255 off the exact ray caster at
+/// worst and 8 % of pixels more than 1/255, 256 steps 1/255 and none. A fine mesh's steps are
+/// thin already and keep the default (more steps cost lookups their cache).
+pub fn table_size(
+    mesh: &TetMesh,
+    tf: &TransferFunction,
+    asked: Option<TableSize>,
+) -> (TableSize, f64) {
+    let size = asked.unwrap_or_else(|| {
+        let d = TableSize::default();
+        let tau = tf.tau.iter().copied().fold(0.0, f64::max);
+        let need = (tau * longest_edge(mesh) / STEP_DEPTH).ceil() + 1.0;
+        let length = if need.is_finite() && need > d.length as f64 {
+            (need as usize).min(MAX_DEFAULT_STEPS)
+        } else {
+            d.length
+        };
+        TableSize { length, ..d }
+    });
+    (size, table_length(mesh, tf, size.length))
+}
+
 /// Builds the shader for an integration mode (the 3-D table for `preintegrated`).
 pub fn shader(tf: &TransferFunction, mode: Integration, size: TableSize, lmax: f64) -> Shader {
     match mode {
