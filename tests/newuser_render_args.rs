@@ -122,3 +122,52 @@ fn too_many_rays_are_refused_not_silently_cut() {
     ])
     .assert_success();
 }
+
+/// Options a new user tried that were quietly ignored or answered oddly: `--orbit-step`
+/// without `--orbit` (ignored), `probe --points ""` (an empty CSV, exit 0), a focal point near
+/// f64's range (reported as a NaN view-up "parallel to the view direction"), and a missing
+/// output folder for `partition --tree` (the I/O error printed twice).
+#[test]
+fn odd_options_are_answered_plainly() {
+    let dir = tempdir();
+    let input = fixture("tetgen/torus.1.ele");
+    let png = dir.path().join("x.png");
+    let run = |extra: &[&str]| {
+        let mut args: Vec<std::ffi::OsString> = vec![
+            "render".into(),
+            input.clone().into(),
+            "-o".into(),
+            png.clone().into(),
+        ];
+        args.extend(extra.iter().map(std::ffi::OsString::from));
+        tetkit(args)
+    };
+    run(&["--orbit-step", "10"]).assert_failure(&["--orbit <N>"]);
+    run(&["--focal", "1e308,1e308,1e308"]).assert_failure(&["no finite view direction", "--focal"]);
+    assert!(!png.exists());
+    tetkit([
+        "probe".as_ref(),
+        input.as_os_str(),
+        "--points".as_ref(),
+        "".as_ref(),
+    ])
+    .assert_failure(&["--points", "no points given"]);
+    let out = dir.path().join("p.vtu");
+    let tree = dir.path().join("nodir").join("t.vtu");
+    let r = tetkit([
+        "partition".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--tree".as_ref(),
+        tree.as_os_str(),
+    ]);
+    r.assert_failure(&["nodir", "No such file or directory"]);
+    assert_eq!(
+        r.stderr.matches("No such file or directory").count(),
+        1,
+        "{}",
+        r.stderr
+    );
+    assert!(!out.exists());
+}

@@ -87,11 +87,9 @@ impl std::fmt::Display for TargetError {
     }
 }
 
-impl std::error::Error for TargetError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        Some(&self.source)
-    }
-}
+/// No `source`: the message already ends with the I/O error, and a report that walks the
+/// chain (anyhow's) would print it twice.
+impl std::error::Error for TargetError {}
 
 /// Writes several files so that either all appear or none do: each is produced into a temporary
 /// file by `produce`, and only when every one succeeded are they moved into place. A file they

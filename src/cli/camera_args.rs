@@ -206,6 +206,15 @@ fn check_up(cam: &Camera) -> Result<()> {
             *v
         }
     };
+    if !d.iter().all(|x| x.is_finite()) {
+        // A position placed past f64's range from a huge focal point, or two far points whose
+        // difference overflows.
+        bail!(
+            "the camera at {:?} looking at {:?} has no finite view direction (coordinates too large for f64): give smaller --position/--focal",
+            cam.position,
+            cam.focal
+        );
+    }
     let (dn, upn) = (unit(&d), unit(&cam.up));
     let c = cross(&dn, &upn);
     let scale = dot(&dn, &dn).sqrt() * dot(&upn, &upn).sqrt();

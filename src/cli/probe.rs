@@ -82,6 +82,17 @@ pub fn gather_points(specs: &[String]) -> Result<Vec<[f64; 3]>> {
             }
         }
     }
+    if out.is_empty() {
+        // An empty CSV with exit 0 reads as "probed, nothing found" in a script.
+        bail!(
+            "--points {}: no points given (expected x,y,z;x,y,z... or files of x y z lines)",
+            specs
+                .iter()
+                .map(|s| format!("'{s}'"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+    }
     Ok(out)
 }
 

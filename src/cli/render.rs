@@ -172,8 +172,13 @@ pub struct RenderArgs {
     /// grid and tables.
     #[arg(long, value_name = "N")]
     pub orbit: Option<usize>,
-    /// Degrees between orbit frames (default 360/N).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    /// Degrees between orbit frames (default 360/N; needs --orbit).
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_hyphen_values = true,
+        requires = "orbit"
+    )]
     pub orbit_step: Option<f64>,
     /// Where PT runs: cpu, gpu (wgpu; an error without an adapter) or auto (the GPU when an
     /// adapter is found, else the CPU).
