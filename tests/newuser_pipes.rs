@@ -71,3 +71,17 @@ fn a_reader_that_stops_early_ends_tetkit_quietly() {
         );
     }
 }
+
+/// A stream the writer refuses blames the output, not "<input>".
+#[test]
+fn a_refused_stream_names_stdout() -> Result<(), Box<dyn std::error::Error>> {
+    let vtk = std::fs::read(common::fixture("gmsh/extruded.vtk"))?;
+    let r = common::tetkit_stdin(["convert", "-", "-", "--to", "mesh"], &vtk);
+    r.assert_failure(&["<stdout>", "Medit files hold"]);
+    assert!(!r.stderr.contains("<input>"), "{}", r.stderr);
+    assert!(
+        r.stdout.is_empty(),
+        "nothing written to a stream that failed"
+    );
+    Ok(())
+}

@@ -201,7 +201,11 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
     if to_stdout {
         // Encode fully before writing anything, so a failure leaves no partial stream.
         let mut buf = Vec::new();
-        formats::write_to(&mut buf, format, &grid, &opts)?;
+        formats::write_to(&mut buf, format, &grid, &opts).map_err(|mut e| {
+            // The writer knows no file name; without one the message would blame "<input>".
+            e.file = Some("<stdout>".into());
+            e
+        })?;
         let mut out = std::io::stdout().lock();
         std::io::Write::write_all(&mut out, &buf)
             .and_then(|_| std::io::Write::flush(&mut out))
