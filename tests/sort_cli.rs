@@ -357,29 +357,32 @@ fn outputs_that_cannot_hold_the_order_are_refused() {
     // Medit drops it: a sort written there would check as some other order.
     let mesh = fixture("tetgen/torus.1.ele");
     let dir = tempdir();
-    for (name, needle) in [
-        ("o.node", "TetGen file cannot hold"),
-        ("o.ele", "TetGen file cannot hold"),
-        ("o.mesh", "Medit file cannot hold"),
-        ("o.msh", "does not write Gmsh MSH"),
+    let arrays = "visibility_order";
+    for (name, needles) in [
+        ("o.node", ["TetGen file cannot hold", arrays]),
+        ("o.ele", ["TetGen file cannot hold", arrays]),
+        ("o.mesh", ["Medit file cannot hold", arrays]),
+        // Formats tetkit does not write at all offer only those it does.
+        (
+            "o.msh",
+            ["reads Gmsh MSH but does not write it", "or .mesh"],
+        ),
+        ("o.txt", ["unknown file extension '.txt'", "or .mesh"]),
     ] {
         let out = dir.path().join(name);
-        tetkit([
+        let r = tetkit([
             "sort".as_ref(),
             mesh.as_os_str(),
             "-o".as_ref(),
             out.as_os_str(),
-        ])
-        .assert_failure(&[
-            name,
-            needle,
-            if name.ends_with(".msh") {
-                "tetkit does not write"
-            } else {
-                "visibility_order"
-            },
-            "write .vtu, .pvtu or .vtk",
         ]);
+        r.assert_failure(&[name, ".vtu, .pvtu"])
+            .assert_failure(&needles);
+        assert!(
+            !r.stderr.contains(".exo"),
+            "{name}: a read-only format offered: {}",
+            r.stderr
+        );
         assert_eq!(
             common::dir_listing(dir.path()),
             Vec::<String>::new(),

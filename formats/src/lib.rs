@@ -73,6 +73,9 @@ pub enum Format {
 }
 
 /// The extensions [`Format::from_path`] knows, for messages.
+/// The extensions [`write`] takes.
+const WRITTEN: &str = ".vtu, .pvtu, .vtk, .node/.ele (TetGen) or .mesh (Medit)";
+
 const KNOWN: &str = ".vtu, .pvtu, .vtk, .node, .ele, .mesh, .msh, .exo, .vtkhdf, .hdf, .vtm, .pvd, .vti, .vtr, .vts, .pvti, .pvtr, .pvts or .vtp";
 
 impl Format {
@@ -109,6 +112,28 @@ impl Format {
                 "unknown file extension '.{other}'; expected {KNOWN}"
             ))
             .with_file(path)),
+        }
+    }
+
+    /// The format an output path names, refused up front when tetkit does not write it (the
+    /// readers' list of extensions would offer formats that cannot be written).
+    pub fn for_output(path: &Path) -> Result<Format> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match Format::from_path(path) {
+            Ok(f) if f.read_only() => Err(read_only(f).with_file(path)),
+            Ok(f) => Ok(f),
+            Err(_) if ext.is_empty() => Err(FormatError::whole(format!(
+                "no file extension; an output is one of {WRITTEN}"
+            ))
+            .with_file(path)),
+            Err(_) if ext != "meshb" => Err(FormatError::whole(format!(
+                "unknown file extension '.{ext}'; an output is one of {WRITTEN}"
+            ))
+            .with_file(path)),
+            Err(e) => Err(e),
         }
     }
 
@@ -475,10 +500,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
 /// Writes a mesh atomically, choosing the writer by extension. TetGen writes `.node` and `.ele`
 /// beside each other (both or neither).
 pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
-    let format = Format::from_path(path)?;
-    if format.read_only() {
-        return Err(read_only(format).with_file(path));
-    }
+    let format = Format::for_output(path)?;
     grid.validate().map_err(|m| {
         FormatError::whole(format!("refusing to write an invalid mesh: {m}")).with_file(path)
     })?;
@@ -501,7 +523,7 @@ pub fn write(path: &Path, grid: &Grid, opts: &WriteOptions) -> Result<()> {
 
 fn read_only(format: Format) -> FormatError {
     FormatError::whole(format!(
-        "tetkit reads {} but does not write it; write .vtu, or .pvtu for pieces",
+        "tetkit reads {} but does not write it; write {WRITTEN}",
         format.name()
     ))
 }

@@ -96,7 +96,7 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
             .filter(|f| matches!(f, Format::Vtu | Format::Legacy | Format::Medit))
             .with_context(|| format!("--to {}: stdout takes vtu, vtk or mesh", args.to))?
     } else {
-        Format::from_path(output)?
+        Format::for_output(output)?
     };
     let mut grid = super::read_input(&args.input)?;
     if args.tetrahedralize {

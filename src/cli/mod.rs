@@ -96,14 +96,13 @@ fn default_sigpipe() {
 /// `what` names must not write a file that silently drops or renames them.
 pub fn require_named_arrays(path: &std::path::Path, what: &str) -> anyhow::Result<()> {
     use formats::Format;
-    let format = Format::from_path(path)?;
+    let format = Format::for_output(path)?;
     if !matches!(format, Format::Vtu | Format::Pvtu | Format::Legacy) {
-        let why = if format.read_only() {
-            format!("tetkit does not write {} files", format.name())
-        } else {
-            format!("{what}, which a {} file cannot hold by name", format.name())
-        };
-        anyhow::bail!("{}: {why}; write .vtu, .pvtu or .vtk", path.display());
+        anyhow::bail!(
+            "{}: {what}, which a {} file cannot hold by name; write .vtu, .pvtu or .vtk",
+            path.display(),
+            format.name()
+        );
     }
     Ok(())
 }
