@@ -150,6 +150,14 @@ fn body_transfer_errors_name_the_offending_line() {
             "not both",
         ),
         ("preset = \"missing.json\"\n", 7, "missing.json"),
+        // A point of three numbers was cut to two, an empty list meant the default ramp.
+        (
+            "opacity = [[0.0, 0.1, 3.0], [3.0, 0.5]]\n",
+            7,
+            "expected two numbers [scalar, opacity], found 3",
+        ),
+        ("opacity = [[0.0, 0.1], [1.0]]\n", 7, "point 1 [1.0]"),
+        ("opacity = []\n", 7, "no points"),
     ] {
         let e = parse_err(&body(keys));
         assert!(

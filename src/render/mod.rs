@@ -3,6 +3,7 @@
 // Negated comparisons are deliberate: they also catch NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod colorspace;
 pub mod cut;
 pub mod field;
 pub mod gpu;

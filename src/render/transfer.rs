@@ -9,6 +9,7 @@
 // Negated comparisons are deliberate: they also catch NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::colorspace::{densify, ColorSpace};
 use anyhow::{anyhow, bail, Context, Result};
 use std::path::Path;
 
@@ -112,12 +113,16 @@ pub fn named_colormap(name: &str) -> Result<ColorSource> {
 }
 
 /// Reads a ParaView colormap preset (the JSON ParaView's "Export preset" writes: a list of
-/// objects with `RGBPoints` as x,r,g,b quadruples and optionally `Points` as x,a,mid,sharpness).
-/// Midpoint and sharpness other than 0.5/0 are not modelled: opacity is linear between points.
+/// objects with `RGBPoints` as x,r,g,b quadruples, optionally `Points` as x,a,mid,sharpness and
+/// `ColorSpace`, which says how colours mix between points; see [`ColorSpace`]). Colours and
+/// opacities outside [0, 1] are refused. Midpoint and sharpness other than 0.5/0 are not
+/// modelled: opacity is linear between points.
 pub fn read_preset(path: &Path) -> Result<ColorSource> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("{}: reading", path.display()))?;
-    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+    // Windows editors save JSON with a byte-order mark, which serde_json refuses.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| {
         anyhow!(
             "{}: line {} column {}: not JSON: {e}",
             path.display(),
@@ -167,9 +172,34 @@ pub fn read_preset(path: &Path) -> Result<ColorSource> {
     }
     let colors: ColorPoints = rgb
         .chunks(4)
-        .map(|c| (c[0], [c[1], c[2], c[3]].map(|v| v.clamp(0.0, 1.0))))
-        .collect();
+        .enumerate()
+        .map(|(i, c)| {
+            let rgb = [c[1], c[2], c[3]];
+            if rgb.iter().any(|v| !(0.0..=1.0).contains(v)) {
+                bail!(
+                    "{}: {name}.RGBPoints: point {i} (x = {}) has colour {rgb:?}, outside [0, 1]",
+                    path.display(),
+                    c[0]
+                );
+            }
+            Ok((c[0], rgb))
+        })
+        .collect::<Result<_>>()?;
     check_increasing(colors.iter().map(|c| c.0), path, &name, "RGBPoints")?;
+    // Colours between the points mix in the preset's space (ParaView's presets are mostly
+    // Diverging or Lab); dense RGB points follow that path closely enough for the nodes.
+    let space = match obj.get("ColorSpace") {
+        None => ColorSpace::Rgb,
+        Some(serde_json::Value::String(s)) => ColorSpace::parse(s, |w| {
+            eprintln!("tetkit: warning: {}: {name}: {w}", path.display())
+        })
+        .map_err(|e| anyhow!("{}: {name}: {e}", path.display()))?,
+        Some(other) => bail!(
+            "{}: {name}.ColorSpace: not a string: {other}",
+            path.display()
+        ),
+    };
+    let colors = densify(&colors, space, 32);
     let opacity = match nums("Points")? {
         None => None,
         Some(p) => {
@@ -180,7 +210,21 @@ pub fn read_preset(path: &Path) -> Result<ColorSource> {
                     p.len()
                 );
             }
-            let pts: OpacityPoints = p.chunks(4).map(|c| (c[0], c[1].clamp(0.0, 1.0))).collect();
+            let pts: OpacityPoints = p
+                .chunks(4)
+                .enumerate()
+                .map(|(i, c)| {
+                    if !(0.0..=1.0).contains(&c[1]) {
+                        bail!(
+                            "{}: {name}.Points: point {i} (x = {}) has opacity {}, outside [0, 1]",
+                            path.display(),
+                            c[0],
+                            c[1]
+                        );
+                    }
+                    Ok((c[0], c[1]))
+                })
+                .collect::<Result<_>>()?;
             check_increasing(pts.iter().map(|c| c.0), path, &name, "Points")?;
             Some(pts)
         }
@@ -261,6 +305,11 @@ impl OpacitySpec {
             let (t, a) = (num(t)?, num(a)?);
             if !(0.0..=1.0).contains(&a) {
                 return Err(bad("opacity must be in [0, 1]"));
+            }
+            if !(0.0..=1.0).contains(&t) {
+                return Err(bad(&format!(
+                    "t = {t} is outside [0, 1] (t is relative to the scalar range; --range sets the range)"
+                )));
             }
             if let Some(&(pt, _)) = pts.last() {
                 if t < pt {
@@ -411,6 +460,10 @@ mod tests {
         assert!(OpacitySpec::parse("0:0,1").is_err());
         assert!(OpacitySpec::parse("1.5").is_err());
         assert!(OpacitySpec::parse("0.5:0.2,0.1:0.3").is_err());
+        // t is relative to the range: outside [0, 1] it is refused, not clamped.
+        assert!(
+            matches!(OpacitySpec::parse("-2:0.5,3:0.5"), Err(e) if e.to_string().contains("t = -2 is outside [0, 1]"))
+        );
     }
 
     #[test]
@@ -445,5 +498,49 @@ mod tests {
         std::fs::write(&p, r#"{"RGBPoints":[0,1,0]}"#).unwrap();
         let e = read_preset(&p).unwrap_err().to_string();
         assert!(e.contains("multiple of 4"), "{e}");
+    }
+
+    #[test]
+    fn preset_colour_space_bom_and_ranges() -> Result<()> {
+        let dir = tempfile::tempdir()?;
+        let p = dir.path().join("p.json");
+        let write = |body: &str| std::fs::write(&p, body);
+        // Red to blue: RGB meets in purple, Diverging in white (as ParaView draws it).
+        for (space, mid) in [("RGB", [0.5, 0.0, 0.5]), ("Diverging", [1.0, 1.0, 1.0])] {
+            // With a byte-order mark, as Windows editors save it.
+            write(&format!(
+                "\u{feff}[{{\"Name\":\"rb\",\"ColorSpace\":\"{space}\",\"RGBPoints\":[0,1,0,0, 1,0,0,1]}}]"
+            ))?;
+            let tf = TransferFunction::build(&read_preset(&p)?, None, [0.0, 1.0], 1.0, 65)?;
+            let got = tf.rgb[32];
+            assert!(
+                (0..3).all(|k| (got[k] - mid[k]).abs() < 0.01),
+                "{space}: {got:?}"
+            );
+        }
+        for (body, needle) in [
+            (
+                r#"[{"Name":"b","ColorSpace":"Bogus","RGBPoints":[0,1,0,0, 1,0,0,1]}]"#,
+                "ColorSpace 'Bogus'",
+            ),
+            (
+                r#"[{"Name":"c","RGBPoints":[0,1,0,0, 1,0,7,1]}]"#,
+                "point 1 (x = 1) has colour [0.0, 7.0, 1.0], outside [0, 1]",
+            ),
+            (
+                r#"[{"Name":"o","RGBPoints":[0,1,0,0, 1,0,0,1],"Points":[0,-1,0.5,0, 1,0.5,0.5,0]}]"#,
+                "point 0 (x = 0) has opacity -1, outside [0, 1]",
+            ),
+        ] {
+            write(body)?;
+            match read_preset(&p) {
+                Ok(_) => bail!("{body} accepted"),
+                Err(e) => {
+                    let e = e.to_string();
+                    assert!(e.contains(needle) && e.contains("p.json"), "{e}");
+                }
+            }
+        }
+        Ok(())
     }
 }

@@ -35,7 +35,9 @@ struct RawCamera {
 struct RawTransfer {
     colormap: Option<Spanned<String>>,
     preset: Option<Spanned<String>>,
-    opacity: Option<Spanned<Vec<[f64; 2]>>>,
+    /// Points read at any length, so a point of three numbers is refused rather than cut to
+    /// two (serde's fixed arrays drop the rest).
+    opacity: Option<Spanned<Vec<Vec<f64>>>>,
     range: Option<Spanned<[f64; 2]>>,
     unit_distance: Option<Spanned<f64>>,
 }
@@ -201,7 +203,29 @@ fn transfer(t: RawTransfer, dir: &Path, at: &At, pos: usize) -> Result<TransferS
         ));
     }
     let opacity_at = key(t.opacity.as_ref().map(|o| o.span().start));
-    let opacity = t.opacity.map(Spanned::into_inner).unwrap_or_default();
+    let given = t.opacity.is_some();
+    let points = t.opacity.map(Spanned::into_inner).unwrap_or_default();
+    if given && points.is_empty() {
+        return Err(at(
+            opacity_at,
+            "opacity = []: no points (leave opacity out for the default ramp)".into(),
+        ));
+    }
+    let mut opacity = Vec::with_capacity(points.len());
+    for (i, p) in points.iter().enumerate() {
+        match p.as_slice() {
+            &[x, a] => opacity.push([x, a]),
+            _ => {
+                return Err(at(
+                    opacity_at,
+                    format!(
+                        "opacity point {i} {p:?}: expected two numbers [scalar, opacity], found {}",
+                        p.len()
+                    ),
+                ))
+            }
+        }
+    }
     let mut prev = f64::NEG_INFINITY;
     for p in &opacity {
         if !p[0].is_finite() || !(0.0..=1.0).contains(&p[1]) {
