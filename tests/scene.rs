@@ -81,6 +81,11 @@ fn scene_errors_name_file_and_line() {
     assert!(e.contains("x.toml: line 5") && e.contains("colour"), "{e}");
     let e = parse_err("\n[[body]]\nshape = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = -1.0\n");
     assert!(e.contains("line 5") && e.contains("radius"), "{e}");
+    // Past 1e150 a radius's square overflows: refused, not drawn as no cut.
+    let e = parse_err("[[body]]\nshape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 1e300\n");
+    assert!(e.contains("line 4") && e.contains("beyond 1e150"), "{e}");
+    let e = parse_err("[[body]]\nshape = \"sphere\"\ncenter = [1e300, 0.0, 0.0]\nradius = 1.0\n");
+    assert!(e.contains("line 3") && e.contains("beyond 1e150"), "{e}");
     let e = parse_err("[[body]]\nshape = \"blob\"\n");
     assert!(e.contains("line 2") && e.contains("blob"), "{e}");
     let e = parse_err("[[body]]\nshape = \"box\"\nmin = [0.0, 0.0, 0.0]\n");

@@ -741,3 +741,32 @@ fn plain_pt_matches_the_ray_caster_at_former_outlier_views() {
         assert!(e.rmse < 5e-4 && e.max < 5e-3, "{n3:?} seed {seed}: {e:?}");
     }
 }
+
+/// The bodies' ray caster integrates exactly: asking it for the table lookup is refused by
+/// name instead of silently ignored.
+#[test]
+fn a_table_lookup_asked_of_the_bodies_ray_caster_is_refused() {
+    let mesh = common::fixture("scenes/cube_mesh.vtk");
+    let scene = common::fixture("scenes/example.toml");
+    let dir = common::tempdir();
+    let out = dir.path().join("x.png");
+    common::tetkit([
+        "render".as_ref(),
+        mesh.as_os_str(),
+        "--scene".as_ref(),
+        scene.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--method".as_ref(),
+        "raycast".as_ref(),
+        "--ray-integration".as_ref(),
+        "preintegrated".as_ref(),
+        "--size".as_ref(),
+        "16x16".as_ref(),
+    ])
+    .assert_failure(&[
+        "example.toml",
+        "--ray-integration preintegrated is not supported",
+    ]);
+    assert!(!out.exists());
+}

@@ -117,6 +117,14 @@ pub fn run(
             }
         }
         MethodChoice::Raycast => {
+            // The bodies' ray caster integrates every piece exactly; a table lookup asked for
+            // would be silently ignored otherwise.
+            if args.ray_integration == super::render::RayIntegration::Preintegrated {
+                anyhow::bail!(
+                    "{}: --ray-integration preintegrated is not supported with a scene's bodies (the ray caster integrates each body's pieces exactly); leave it out, or use --method pt",
+                    scene.file.display()
+                );
+            }
             let topo = session.topology();
             let rc = session.raycaster(&topo);
             summary.push(format!(

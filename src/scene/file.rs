@@ -131,10 +131,20 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene, FormatError> {
 
 type At<'a> = dyn Fn(usize, String) -> FormatError + 'a;
 
+/// Largest magnitude of a body's coordinates and sizes: the shape tests square them (a sphere
+/// of radius 1e155 had an infinite r^2 and cut nothing where classify's test cut everything).
+const LIMIT: f64 = 1e150;
+
 fn finite3(v: &Spanned<[f64; 3]>, key: &str, at: &At) -> Result<[f64; 3], FormatError> {
     let x = *v.get_ref();
     if !x.iter().all(|c| c.is_finite()) {
         return Err(at(v.span().start, format!("{key} = {x:?} is not finite")));
+    }
+    if x.iter().any(|c| c.abs() > LIMIT) {
+        return Err(at(
+            v.span().start,
+            format!("{key} = {x:?}: values beyond 1e150 in magnitude are refused (their squares overflow)"),
+        ));
     }
     Ok(x)
 }
@@ -306,6 +316,14 @@ fn body(
                         "{who}: {key} = {x} must be {} and finite",
                         if zero_ok { "non-negative" } else { "positive" }
                     ),
+                ));
+            }
+            if x > LIMIT {
+                return Err(at(
+                    v.span().start,
+                    format!(
+                    "{who}: {key} = {x}: values beyond 1e150 are refused (their squares overflow)"
+                ),
                 ));
             }
             Ok(x)
