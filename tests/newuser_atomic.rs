@@ -75,3 +75,23 @@ fn tradeoff_and_render_leave_nothing_on_bad_input() {
     .assert_failure(&["view.jpg", "PNG"]);
     assert!(dir_listing(dir.path()).is_empty());
 }
+
+/// A folder in the way of a file tradeoff writes last (tradeoff.csv) failed the run after every
+/// image had been written into an existing results folder: found before any work now.
+#[test]
+fn tradeoff_finds_a_folder_in_its_way_before_writing() -> Result<(), std::io::Error> {
+    let dir = tempdir();
+    let folder = dir.path().join("results");
+    std::fs::create_dir_all(folder.join("tradeoff.csv"))?;
+    tetkit([
+        "tradeoff".as_ref(),
+        fixture("gmsh/cavity.vtk").as_os_str(),
+        "-o".as_ref(),
+        folder.as_os_str(),
+        "--size".as_ref(),
+        "16x16".as_ref(),
+    ])
+    .assert_failure(&["tradeoff.csv", "a folder is in the way"]);
+    assert_eq!(dir_listing(&folder), vec!["tradeoff.csv".to_string()]);
+    Ok(())
+}

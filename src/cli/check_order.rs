@@ -22,9 +22,10 @@ pub struct CheckOrderArgs {
     /// Sort with this method and check the result (default when the file has no visibility_order: kd).
     #[arg(long, value_enum)]
     pub method: Option<Method>,
-    /// Drawing direction of the sort (with --method).
-    #[arg(long, value_enum, default_value = "back-to-front")]
-    pub direction: Direction,
+    /// Drawing direction of the sort (with --method) [default: back-to-front]; a file's order
+    /// carries its own.
+    #[arg(long, value_enum)]
+    pub direction: Option<Direction>,
     /// Print the report as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -54,6 +55,12 @@ pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
     let from_file = grid.cell_data.get("visibility_order");
     let (rank, ftb, what, stats) = match (args.method, from_file) {
         (None, Some(a)) => {
+            if args.direction.is_some() {
+                eprintln!(
+                    "tetkit: note: --direction is not used: {}'s visibility_order carries its own direction (field visibility_front_to_back); give --method to sort and check in a direction",
+                    args.input.display()
+                );
+            }
             if a.components != 1 || a.data.len() != n {
                 bail!(
                     "{}: cell array visibility_order has {} values in {} components, expected {n}",
@@ -68,8 +75,9 @@ pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
                 let v = a.data.get_f64(i);
                 if !(v >= 0.0 && v < n as f64 && v.fract() == 0.0) || seen[v as usize] {
                     bail!(
-                        "{}: cell array visibility_order: value {v} of cell {i} is not a rank (a permutation of 0..{n})",
-                        args.input.display()
+                        "{}: cell array visibility_order: value {v} of cell {i} is not a rank (a permutation of 0 to {})",
+                        args.input.display(),
+                        n.saturating_sub(1)
                     );
                 }
                 seen[v as usize] = true;
@@ -97,10 +105,11 @@ pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
                 format!("{method:?} sort")
             };
             let sorter = Sorter::new(&mesh, tree.as_ref())?;
-            let o = sorter.order(&cam, method, args.direction);
+            let direction = args.direction.unwrap_or(Direction::BackToFront);
+            let o = sorter.order(&cam, method, direction);
             (
                 o.ranks(),
-                args.direction == Direction::FrontToBack,
+                direction == Direction::FrontToBack,
                 what,
                 Some(o.stats),
             )

@@ -53,6 +53,20 @@ pub fn run(args: &ClassifyArgs) -> anyhow::Result<()> {
     for (&c, &code) in input_cell.iter().zip(&codes) {
         per_cell[c] |= code;
     }
+    let lower = grid
+        .cells
+        .types
+        .iter()
+        .filter(|&&t| formats::cell_type::dimension(t) < 3)
+        .count();
+    if lower > 0 {
+        // The tets' note above says those cells were dropped from the tets; the output keeps
+        // them, and their 0 must not read as "outside every body".
+        eprintln!(
+            "tetkit: note: {} keeps the {lower} cells of dimension 0-2 with region_code 0: classify labels 3-D cells only",
+            args.output.display()
+        );
+    }
     let mut out_grid = grid;
     out_grid
         .cell_data

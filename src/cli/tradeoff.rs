@@ -49,7 +49,30 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Every file a run writes into its folder.
+fn outputs() -> Vec<String> {
+    let mut v = vec!["reference.png".to_string()];
+    for sort in SortChoice::ALL {
+        for mode in Integration::ALL {
+            v.push(format!("pt_{}_{}.png", sort.name(), mode.name()));
+        }
+    }
+    v.extend(["tradeoff.csv", "tradeoff.json", "tradeoff.png"].map(String::from));
+    v
+}
+
 pub fn run(args: &TradeoffArgs) -> Result<()> {
+    // Something in the way of a file written late (a folder named tradeoff.csv) would fail the
+    // run after the images were written: found before any work instead.
+    for name in outputs() {
+        let p = args.output.join(&name);
+        if std::fs::metadata(&p).is_ok_and(|m| m.is_dir()) {
+            anyhow::bail!(
+                "{}: a folder is in the way of tradeoff's output file",
+                p.display()
+            );
+        }
+    }
     let look = &args.look;
     let combos = SortChoice::ALL.len() * Integration::ALL.len();
     let mut progress = Progress::new(look.quiet, 3 + combos as u64, "tradeoff");
