@@ -581,7 +581,22 @@ pub mod cell_type {
     pub const CUBIC_LINE: u8 = 35;
     pub const QUADRATIC_POLYGON: u8 = 36;
     pub const TRIQUADRATIC_PYRAMID: u8 = 37;
+    pub const CONVEX_POINT_SET: u8 = 41;
     pub const POLYHEDRON: u8 = 42;
+    pub const LAGRANGE_CURVE: u8 = 68;
+    pub const LAGRANGE_TRIANGLE: u8 = 69;
+    pub const LAGRANGE_QUADRILATERAL: u8 = 70;
+    pub const LAGRANGE_TETRAHEDRON: u8 = 71;
+    pub const LAGRANGE_HEXAHEDRON: u8 = 72;
+    pub const LAGRANGE_WEDGE: u8 = 73;
+    pub const LAGRANGE_PYRAMID: u8 = 74;
+    pub const BEZIER_CURVE: u8 = 75;
+    pub const BEZIER_TRIANGLE: u8 = 76;
+    pub const BEZIER_QUADRILATERAL: u8 = 77;
+    pub const BEZIER_TETRAHEDRON: u8 = 78;
+    pub const BEZIER_HEXAHEDRON: u8 = 79;
+    pub const BEZIER_WEDGE: u8 = 80;
+    pub const BEZIER_PYRAMID: u8 = 81;
 
     /// The VTK name of a cell type (`VTK_TETRA` without the prefix, lower case).
     pub fn name(t: u8) -> &'static str {
@@ -620,13 +635,29 @@ pub mod cell_type {
             CUBIC_LINE => "cubic_line",
             QUADRATIC_POLYGON => "quadratic_polygon",
             TRIQUADRATIC_PYRAMID => "triquadratic_pyramid",
+            CONVEX_POINT_SET => "convex_point_set",
             POLYHEDRON => "polyhedron",
+            LAGRANGE_CURVE => "lagrange_curve",
+            LAGRANGE_TRIANGLE => "lagrange_triangle",
+            LAGRANGE_QUADRILATERAL => "lagrange_quadrilateral",
+            LAGRANGE_TETRAHEDRON => "lagrange_tetrahedron",
+            LAGRANGE_HEXAHEDRON => "lagrange_hexahedron",
+            LAGRANGE_WEDGE => "lagrange_wedge",
+            LAGRANGE_PYRAMID => "lagrange_pyramid",
+            BEZIER_CURVE => "bezier_curve",
+            BEZIER_TRIANGLE => "bezier_triangle",
+            BEZIER_QUADRILATERAL => "bezier_quadrilateral",
+            BEZIER_TETRAHEDRON => "bezier_tetrahedron",
+            BEZIER_HEXAHEDRON => "bezier_hexahedron",
+            BEZIER_WEDGE => "bezier_wedge",
+            BEZIER_PYRAMID => "bezier_pyramid",
             _ => "unknown",
         }
     }
 
     /// Number of points a cell of this type has, or `None` for variable-size types
-    /// (poly vertex, poly line, strip, polygon, polyhedron, quadratic polygon) and unknown ids.
+    /// (poly vertex, poly line, strip, polygon, polyhedron, quadratic polygon, convex point set,
+    /// Lagrange and Bezier cells) and unknown ids.
     pub fn fixed_size(t: u8) -> Option<usize> {
         Some(match t {
             EMPTY_CELL => 0,
@@ -662,17 +693,68 @@ pub mod cell_type {
     /// Whether `t` is a cell type id this crate knows.
     pub fn is_known(t: u8) -> bool {
         fixed_size(t).is_some()
+            || is_higher_order(t)
             || matches!(
                 t,
-                POLY_VERTEX | POLY_LINE | TRIANGLE_STRIP | POLYGON | QUADRATIC_POLYGON | POLYHEDRON
+                POLY_VERTEX
+                    | POLY_LINE
+                    | TRIANGLE_STRIP
+                    | POLYGON
+                    | QUADRATIC_POLYGON
+                    | POLYHEDRON
+                    | CONVEX_POINT_SET
             )
+    }
+
+    /// Whether `t` is a Lagrange cell (types 68-74).
+    pub fn is_lagrange(t: u8) -> bool {
+        (LAGRANGE_CURVE..=LAGRANGE_PYRAMID).contains(&t)
+    }
+
+    /// Whether `t` is a Bezier cell (types 75-81).
+    pub fn is_bezier(t: u8) -> bool {
+        (BEZIER_CURVE..=BEZIER_PYRAMID).contains(&t)
+    }
+
+    /// Whether `t` is an arbitrary-order Lagrange or Bezier cell, whose order the file gives only
+    /// through its point count (or a `HigherOrderDegrees` cell array).
+    pub fn is_higher_order(t: u8) -> bool {
+        is_lagrange(t) || is_bezier(t)
+    }
+
+    /// The linear cell with the same shape as a Lagrange or Bezier cell (line, triangle, quad,
+    /// tetra, hexahedron, wedge, pyramid), or `None` for other types. VTK lists a higher-order
+    /// cell's corners first, in its linear counterpart's order, so the first
+    /// `fixed_size(linear_counterpart(t))` point ids of such a cell are its corners (Lagrange) or
+    /// its corner control points, which Bezier cells interpolate.
+    pub fn linear_counterpart(t: u8) -> Option<u8> {
+        let shape = if is_lagrange(t) {
+            t - LAGRANGE_CURVE
+        } else if is_bezier(t) {
+            t - BEZIER_CURVE
+        } else {
+            return None;
+        };
+        [LINE, TRIANGLE, QUAD, TETRA, HEXAHEDRON, WEDGE, PYRAMID]
+            .get(shape as usize)
+            .copied()
+    }
+
+    /// The fewest points a variable-size cell of type `t` can have, where the type sets one:
+    /// the corners of a Lagrange or Bezier cell's shape (order 1), and 4 for a convex point set
+    /// (the fewest that enclose a volume). `None` for other types, whose sizes are not checked.
+    pub fn min_size(t: u8) -> Option<usize> {
+        if t == CONVEX_POINT_SET {
+            return Some(4);
+        }
+        linear_counterpart(t).and_then(fixed_size)
     }
 
     /// Topological dimension: 0 points, 1 lines, 2 surfaces, 3 solids.
     pub fn dimension(t: u8) -> u8 {
         match t {
             EMPTY_CELL | VERTEX | POLY_VERTEX => 0,
-            LINE | POLY_LINE | QUADRATIC_EDGE | CUBIC_LINE => 1,
+            LINE | POLY_LINE | QUADRATIC_EDGE | CUBIC_LINE | LAGRANGE_CURVE | BEZIER_CURVE => 1,
             TRIANGLE
             | TRIANGLE_STRIP
             | POLYGON
@@ -683,7 +765,11 @@ pub mod cell_type {
             | BIQUADRATIC_QUAD
             | QUADRATIC_LINEAR_QUAD
             | BIQUADRATIC_TRIANGLE
-            | QUADRATIC_POLYGON => 2,
+            | QUADRATIC_POLYGON
+            | LAGRANGE_TRIANGLE
+            | LAGRANGE_QUADRILATERAL
+            | BEZIER_TRIANGLE
+            | BEZIER_QUADRILATERAL => 2,
             _ => 3,
         }
     }
@@ -850,7 +936,8 @@ impl Grid {
 
     /// Checks the structure: every coordinate is finite (NaN or infinite points make every later
     /// stage meaningless, so they are refused at the door); offsets start at 0, never decrease and end at the connectivity length;
-    /// every cell type is known and has its fixed point count; every point id is in range; every
+    /// every cell type is known and has its fixed point count (or, for Lagrange, Bezier and convex
+    /// point set cells, at least their minimum); every point id is in range; every
     /// point (cell) data array has one tuple per point (cell); points have 3 components.
     /// The message names the array or cell that is wrong.
     pub fn validate(&self) -> Result<(), String> {
@@ -913,7 +1000,7 @@ impl Grid {
                 && cell_type::is_known(t)
                 && match cell_type::fixed_size(t) {
                     Some(n) => (b - a) as usize == n,
-                    None => true,
+                    None => cell_type::min_size(t).map_or(true, |m| (b - a) as usize >= m),
                 }
         };
         if let Some(i) = first_where(c.types.len(), |i| !cell_ok(i)) {
@@ -933,6 +1020,13 @@ impl Grid {
                         b - a
                     ));
                 }
+            }
+            if let Some(m) = cell_type::min_size(t) {
+                return Err(format!(
+                    "cell {i} is a {} with {} points, expected at least {m}",
+                    cell_type::name(t),
+                    b - a
+                ));
             }
         }
         if let Some(bad) = first_where(c.connectivity.len(), |k| {

@@ -14,6 +14,8 @@ pub mod collection;
 pub mod error;
 pub mod exodus;
 pub mod grid;
+#[cfg(test)]
+mod highorder_tests;
 pub mod legacy;
 pub mod medit;
 pub mod msh;
