@@ -852,6 +852,55 @@ impl Cells {
     }
 }
 
+/// An array that [`Grid::rename_duplicates`] renamed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Renamed {
+    /// `point`, `cell` or `field`.
+    pub set: &'static str,
+    /// The name it shared with an earlier array.
+    pub name: String,
+    /// Its new name.
+    pub new_name: String,
+    /// The earlier array's type and its own (`Float32`, `String`, ...).
+    pub first_type: &'static str,
+    pub its_type: &'static str,
+}
+
+impl fmt::Display for Renamed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} data has two arrays named '{}' ({} and {}); the second is read as '{}'",
+            self.set, self.name, self.first_type, self.its_type, self.new_name
+        )
+    }
+}
+
+fn rename_in(set: &'static str, arrays: &mut [DataArray], out: &mut Vec<Renamed>) {
+    let mut taken: std::collections::HashSet<String> =
+        arrays.iter().map(|a| a.name.clone()).collect();
+    let mut seen: std::collections::HashMap<String, &'static str> = Default::default();
+    for a in arrays.iter_mut() {
+        let Some(&first_type) = seen.get(&a.name) else {
+            seen.insert(a.name.clone(), a.data.type_name());
+            continue;
+        };
+        let new_name = (2u64..)
+            .map(|k| format!("{} ({k})", a.name))
+            .find(|n| !taken.contains(n))
+            .unwrap_or_default();
+        taken.insert(new_name.clone());
+        seen.insert(new_name.clone(), a.data.type_name());
+        out.push(Renamed {
+            set,
+            name: std::mem::replace(&mut a.name, new_name.clone()),
+            new_name,
+            first_type,
+            its_type: a.data.type_name(),
+        });
+    }
+}
+
 /// The smallest `i < n` with `bad(i)`, scanning chunks of 64 Ki indices in parallel.
 fn first_where(n: usize, bad: impl Fn(usize) -> bool + Sync) -> Option<usize> {
     const CHUNK: usize = 1 << 16;
@@ -1061,6 +1110,29 @@ impl Grid {
         Ok(())
     }
 
+    /// Gives every point, cell and field data array a name no other array of its set has: VTK
+    /// keeps one array per name, so a file that repeats a name would be written back ambiguous.
+    /// The first array keeps the name, a later one becomes `NAME (2)` (or the first free
+    /// `NAME (k)`); values, type and components are untouched. Each set keeps at most one
+    /// active array per role, the first named, which is the array that kept its name.
+    pub fn rename_duplicates(&mut self) -> Vec<Renamed> {
+        let mut out = Vec::new();
+        for (set, attrs) in [
+            ("point", &mut self.point_data),
+            ("cell", &mut self.cell_data),
+        ] {
+            rename_in(set, &mut attrs.arrays, &mut out);
+            let mut seen = Vec::new();
+            attrs.active.retain(|(role, _)| {
+                let first = !seen.contains(role);
+                seen.push(*role);
+                first
+            });
+        }
+        rename_in("field", &mut self.field_data, &mut out);
+        out
+    }
+
     /// Number of cells of each type, sorted by type id.
     pub fn cell_type_counts(&self) -> Vec<(u8, usize)> {
         let mut counts = [0usize; 256];
@@ -1071,5 +1143,67 @@ impl Grid {
             .filter(|&t| counts[t] > 0)
             .map(|t| (t as u8, counts[t]))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arr(name: &str, data: ArrayData) -> DataArray {
+        DataArray::new(name, 1, data)
+    }
+
+    #[test]
+    fn repeated_names_are_made_unique_keeping_the_first_and_every_value() {
+        let mut g = Grid::default();
+        g.point_data.arrays = vec![
+            arr("p", ArrayData::Float32(vec![])),
+            arr("p (2)", ArrayData::Int8(vec![])),
+            arr("p", ArrayData::Float64(vec![])),
+            arr("p", ArrayData::Int32(vec![])),
+            arr("q", ArrayData::Int32(vec![])),
+        ];
+        g.point_data.active = vec![
+            (Attribute::Scalars, "p".into()),
+            (Attribute::Scalars, "p".into()),
+            (Attribute::Vectors, "q".into()),
+        ];
+        g.cell_data.arrays = vec![arr("c", ArrayData::Int32(vec![]))];
+        g.field_data = vec![
+            arr("f", ArrayData::String(vec![])),
+            arr("f", ArrayData::UInt8(vec![])),
+        ];
+        let before = g.clone();
+        let r = g.rename_duplicates();
+        let names: Vec<&str> = g
+            .point_data
+            .arrays
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect();
+        assert_eq!(names, ["p", "p (2)", "p (3)", "p (4)", "q"]);
+        assert_eq!(g.field_data[1].name, "f (2)");
+        assert_eq!(g.cell_data, before.cell_data);
+        for (a, b) in g.point_data.arrays.iter().zip(&before.point_data.arrays) {
+            assert!(a.data.bit_eq(&b.data) && a.components == b.components);
+        }
+        assert_eq!(
+            g.point_data.active,
+            vec![
+                (Attribute::Scalars, "p".to_string()),
+                (Attribute::Vectors, "q".to_string())
+            ]
+        );
+        assert_eq!(r.len(), 3);
+        assert_eq!(
+            r[0].to_string(),
+            "point data has two arrays named 'p' (Float32 and Float64); the second is read as 'p (3)'"
+        );
+        assert_eq!(
+            r[2].to_string(),
+            "field data has two arrays named 'f' (String and UInt8); the second is read as 'f (2)'"
+        );
+        assert!(g.rename_duplicates().is_empty());
     }
 }

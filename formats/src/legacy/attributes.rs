@@ -293,7 +293,9 @@ pub(crate) fn read_section(
     Ok(())
 }
 
-/// Adds an array; the first array of each role becomes the active one, as in VTK.
+/// Adds an array; the first array of each role becomes the active one, as in VTK. An array
+/// whose name an earlier one has is kept too (VTK would replace the earlier one): the common
+/// read path renames it.
 fn add(
     attrs: &mut Attributes,
     last: &mut Option<String>,
@@ -311,5 +313,5 @@ fn add(
             attrs.active.push((role, array.name.clone()));
         }
     }
-    attrs.insert(array);
+    attrs.arrays.push(array);
 }

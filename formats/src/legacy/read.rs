@@ -114,9 +114,7 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
                 format!("expected DATASET UNSTRUCTURED_GRID, found '{}'", show(t)),
             ));
         } else if is_kw(t, "FIELD") {
-            for a in read_field(&mut cur)? {
-                upsert(&mut grid.field_data, a);
-            }
+            grid.field_data.extend(read_field(&mut cur)?);
         } else if match lattice.as_mut() {
             Some(l) => l.keyword(&mut cur, p, t)?,
             None => false,
@@ -306,13 +304,6 @@ fn first_non_finite(d: &ArrayData) -> Option<usize> {
         ArrayData::Float32(v) => v.iter().position(|x| !x.is_finite()),
         ArrayData::Float64(v) => v.iter().position(|x| !x.is_finite()),
         _ => None,
-    }
-}
-
-fn upsert(v: &mut Vec<DataArray>, a: DataArray) {
-    match v.iter_mut().find(|x| x.name == a.name) {
-        Some(slot) => *slot = a,
-        None => v.push(a),
     }
 }
 

@@ -283,13 +283,9 @@ impl Builder {
             } else {
                 &mut g.cell_data
             };
-            if set.get(&a.name).is_some() {
-                warn(&format!(
-                    "{path_for_warnings}: a second array named '{}' replaces the first",
-                    a.name
-                ));
-            }
-            set.insert(a);
+            // A view named like another array (gmsh:physical, say) is kept beside it; the
+            // common read path renames it, with a warning.
+            set.arrays.push(a);
         }
         for (key, t) in times {
             let name = format!("{}{}", names::TIME_PREFIX, &key[1..]);
