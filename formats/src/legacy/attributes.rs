@@ -54,7 +54,7 @@ pub(crate) fn read_metadata(
     cur: &mut Cursor<'_>,
     components: usize,
 ) -> Result<Option<Vec<String>>, FormatError> {
-    match cur.peek() {
+    match cur.peek_keyword("METADATA or the next keyword")? {
         Some((_, t)) if is_kw(&t, "METADATA") => {}
         _ => return Ok(None),
     }
@@ -133,7 +133,7 @@ pub(crate) fn read_section(
 ) -> Result<(), FormatError> {
     // The array read last: a number where a keyword should be means it (or its header) is wrong.
     let mut last: Option<String> = None;
-    while let Some((p, t)) = cur.peek() {
+    while let Some((p, t)) = cur.peek_keyword("an attribute keyword")? {
         if is_kw(&t, "POINT_DATA") || is_kw(&t, "CELL_DATA") {
             return Ok(());
         }

@@ -14,7 +14,19 @@ pub(crate) struct Header {
 
 /// Parses the header and leaves the cursor at the start of the fourth line.
 pub(crate) fn parse(cur: &mut Cursor<'_>) -> Result<Header, FormatError> {
+    if cur.remaining() == 0 {
+        return Err(cur.err(0, "the file is empty"));
+    }
     let first = cur.line().to_vec();
+    if cur.remaining() == 0 {
+        return Err(cur.err(
+            0,
+            format!(
+                "unexpected end of file in the first line '{}' (truncated?)",
+                show(&first)
+            ),
+        ));
+    }
     let first = first.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&first);
     let magic = b"# vtk DataFile Version";
     if first.len() < magic.len() || !first[..magic.len()].eq_ignore_ascii_case(magic) {

@@ -87,7 +87,7 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     let mut types: Option<(Vec<u8>, usize)> = None;
     // STRUCTURED_POINTS, STRUCTURED_GRID or RECTILINEAR_GRID.
     let mut lattice: Option<lattice::State> = None;
-    while let Some((p, t)) = cur.token().map(|(p, t)| (p, t.to_vec())) {
+    while let Some((p, t)) = cur.keyword("a keyword")? {
         let t = &t[..];
         if is_kw(t, "DATASET") {
             let (q, kind) = cur.require("the dataset type")?;
@@ -220,27 +220,29 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
         }
     }
     if !have_dataset {
-        return Err(cur.err(cur.pos, "no DATASET line"));
+        return Err(cur.err(cur.pos, "unexpected end of file before a DATASET line"));
     }
     if let Some(l) = lattice {
         l.finish(&cur, &mut grid, have_points)?;
         return Ok(grid);
     }
     if !have_points && raw.is_some() {
-        return Err(cur.err(cur.pos, "CELLS given but no POINTS"));
+        return Err(cur.err(cur.pos, "CELLS given but the file ends without POINTS"));
     }
     if let Some(secs) = poly {
         if !have_points && !secs.is_empty() {
-            return Err(cur.err(cur.pos, "cells given but no POINTS"));
+            return Err(cur.err(cur.pos, "cells given but the file ends without POINTS"));
         }
         grid.cells = poly_cells(&cur, secs, grid.num_points())?;
         return Ok(grid);
     }
     grid.cells = match (raw, types) {
         (None, None) => Cells::new(),
-        (Some(_), None) => return Err(cur.err(cur.pos, "CELLS given but no CELL_TYPES")),
+        (Some(_), None) => {
+            return Err(cur.err(cur.pos, "CELLS given but the file ends without CELL_TYPES"))
+        }
         (None, Some((t, p))) if !t.is_empty() => {
-            return Err(cur.err(p, "CELL_TYPES given but no CELLS"))
+            return Err(cur.err(p, "CELL_TYPES given but the file ends without CELLS"))
         }
         (None, Some(_)) => Cells::new(),
         (Some(raw), Some((t, p))) => assemble(&cur, raw, t, p, grid.num_points())?,
@@ -319,7 +321,7 @@ fn to_i64(cur: &Cursor<'_>, at: usize, what: &str, data: ArrayData) -> Result<Ve
 fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
     let a = cur.expect_count("the CELLS count")?;
     let b = cur.expect_count("the CELLS size")?;
-    match cur.peek() {
+    match cur.peek_keyword("OFFSETS or the cell list")? {
         Some((_, t)) if is_kw(&t, "OFFSETS") => {
             cur.token();
             let ty = read_type(cur, "OFFSETS")?;

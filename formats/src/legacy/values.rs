@@ -175,12 +175,19 @@ pub(crate) fn read_ascii<T>(
     }
     let mut out = Vec::with_capacity(n.min(cur.remaining() / 2 + 1));
     for i in 0..n {
-        let Some((p, t)) = cur.token() else {
+        let binary = cur.binary;
+        let Some((p, t, cut)) = cur.token_cut() else {
             return Err(cur.err(
                 cur.pos,
                 format!("{what}: unexpected end of file after {i} of {n} values"),
             ));
         };
+        // An ASCII file's last value may lack its newline (VTK reads it so); anything else that
+        // runs into the end was cut.
+        if cut && (binary || i + 1 < n) {
+            let t = t.to_vec();
+            return Err(cur.cut_err(p, &t, &format!("{what}, value {i} of {n}")));
+        }
         match parse(t) {
             Some(v) => out.push(v),
             None => {
