@@ -39,6 +39,41 @@ pub(crate) fn warn(msg: &str) {
     eprintln!("tetkit: warning: {msg}");
 }
 
+/// `bytes` as text, and when they are not UTF-8 (each bad sequence then becomes U+FFFD) what
+/// they were, with every byte that is not printable ASCII written `\xNN`.
+pub(crate) fn lossy_text(bytes: &[u8]) -> (String, Option<String>) {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => (s.to_string(), None),
+        Err(_) => {
+            let mut raw = String::with_capacity(bytes.len() + 8);
+            for &b in bytes.iter().take(80) {
+                if b.is_ascii_graphic() || b == b' ' {
+                    raw.push(b as char);
+                } else {
+                    raw.push_str(&format!("\\x{b:02x}"));
+                }
+            }
+            if bytes.len() > 80 {
+                raw.push_str("...");
+            }
+            (String::from_utf8_lossy(bytes).into_owned(), Some(raw))
+        }
+    }
+}
+
+/// [`lossy_text`], with a warning naming `file`, `place` and `what` when the text is not UTF-8:
+/// the name is kept (lossily) rather than the file refused, but it will not be written back as
+/// the file had it.
+pub(crate) fn text_or_warn(bytes: &[u8], file: &str, place: &str, what: &str) -> String {
+    let (s, raw) = lossy_text(bytes);
+    if let Some(raw) = raw {
+        warn(&format!(
+            "{file}: {place}: {what} '{raw}' is not UTF-8; read as '{s}'"
+        ));
+    }
+    s
+}
+
 /// A file format, chosen from the file name and checked against the content.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -651,6 +686,22 @@ mod tests {
         write(&path, &g, &opts)?;
         let back = read(&path)?;
         assert!(back.point_data.get("p_f64 (2)").is_some());
+        Ok(())
+    }
+
+    #[test]
+    fn text_that_is_not_utf8_is_kept_lossily_and_shown_as_written() -> Result<()> {
+        assert_eq!(lossy_text(b"label"), ("label".to_string(), None));
+        let (s, raw) = lossy_text(b"lab\xe9l \x01");
+        assert_eq!(s, "lab\u{fffd}l \u{1}");
+        assert_eq!(raw.as_deref(), Some("lab\\xe9l \\x01"));
+        // The user's file: a FIELD array named lab\xe9l (its title line is not UTF-8 either).
+        let file = b"# vtk DataFile Version 4.2\nt\xe9st\nASCII\nDATASET UNSTRUCTURED_GRID\n\
+POINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n\
+CELL_DATA 1\nFIELD f 1\nlab\xe9l 1 1 string\nv\xe9lue\n";
+        let g = read_bytes(file, Format::Legacy)?;
+        let a = g.cell_data.get("lab\u{fffd}l");
+        assert!(a.is_some_and(|a| a.data == ArrayData::String(vec!["v\u{fffd}lue".into()])));
         Ok(())
     }
 

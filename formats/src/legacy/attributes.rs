@@ -3,7 +3,6 @@
 //! blocks, and the METADATA block that may follow any array.
 
 use super::cursor::{is_kw, show, Cursor};
-use super::names;
 use super::values::{read_ascii, read_numeric, read_values, LegacyType};
 use crate::{ArrayData, Attribute, Attributes, DataArray, FormatError};
 
@@ -20,8 +19,8 @@ pub(crate) fn read_type(cur: &mut Cursor<'_>, what: &str) -> Result<LegacyType, 
 
 /// Reads a (%-encoded) array name.
 pub(crate) fn read_name(cur: &mut Cursor<'_>, what: &str) -> Result<String, FormatError> {
-    let (_, t) = cur.require(what)?;
-    Ok(names::decode(&t))
+    let (p, t) = cur.require(what)?;
+    Ok(cur.name(p, &t, true, what))
 }
 
 /// Reads `tuples * components` values of `ty`, then any METADATA block, into a named array.
@@ -80,7 +79,9 @@ pub(crate) fn read_metadata(
                         format!("METADATA: end of file after {k} of {components} component names"),
                     ));
                 }
-                names.push(names::decode(cur.line()));
+                let at = cur.pos;
+                let line = cur.line().to_vec();
+                names.push(cur.name(at, &line, true, &format!("component name {k}")));
             }
         } else if is_kw(word, "INFORMATION") {
             // Keys run to the empty line that also ends the METADATA block.
@@ -110,7 +111,7 @@ pub(crate) fn read_field(cur: &mut Cursor<'_>) -> Result<Vec<DataArray>, FormatE
         if is_kw(&t, "NULL_ARRAY") {
             continue;
         }
-        let name = names::decode(&t);
+        let name = cur.name(p, &t, true, "a FIELD array name");
         let comps = cur.expect_count(&format!("the component count of FIELD array '{name}'"))?;
         if comps == 0 {
             return Err(cur.err(p, format!("FIELD array '{name}' has 0 components")));

@@ -31,6 +31,8 @@ pub(crate) struct Cursor<'a> {
     cut: bool,
     /// Where the last token starts.
     token_start: usize,
+    /// The file, as warnings name it.
+    pub label: String,
 }
 
 fn is_ws(b: u8) -> bool {
@@ -51,6 +53,7 @@ impl<'a> Cursor<'a> {
             blocks: Vec::new(),
             cut: false,
             token_start: 0,
+            label: "<input>".into(),
         }
     }
 
@@ -68,6 +71,7 @@ impl<'a> Cursor<'a> {
             blocks: Vec::new(),
             cut: false,
             token_start: 0,
+            label: "<input>".into(),
         }
     }
 
@@ -161,6 +165,18 @@ impl<'a> Cursor<'a> {
             &self.win[start - self.base..end - self.base],
             self.cut,
         ))
+    }
+
+    /// Text read at byte `at` (a %-encoded name when `escaped`, else raw bytes) as a String.
+    /// Bytes that are not UTF-8 become U+FFFD, with a warning naming the file, the byte and
+    /// `what` was read, since the name written back will differ from the file's.
+    pub fn name(&self, at: usize, t: &[u8], escaped: bool, what: &str) -> String {
+        let raw = if escaped {
+            super::names::unescape(t)
+        } else {
+            t.to_vec()
+        };
+        crate::text_or_warn(&raw, &self.label, &format!("byte {at}"), what)
     }
 
     /// The error for token `t` at `p` that ran into the end of the input while `what` was read:

@@ -30,7 +30,13 @@ enum RawCells {
 
 /// Parses a whole legacy .vtk file held in memory.
 pub fn read(bytes: &[u8]) -> Result<Grid> {
+    read_labelled(bytes, "<input>")
+}
+
+/// [`read`], naming the file `label` in warnings.
+fn read_labelled(bytes: &[u8], label: &str) -> Result<Grid> {
     let mut cur = Cursor::new(bytes);
+    cur.label = label.to_string();
     header::parse(&mut cur)?;
     read_body(cur)
 }
@@ -45,10 +51,11 @@ pub fn read_path(path: &Path) -> Result<Grid> {
         FormatError::whole("the file is larger than memory can address").with_file(path)
     })?;
     let mut cur = Cursor::from_file(&file, len);
+    cur.label = path.display().to_string();
     let head = header::parse(&mut cur).map_err(|e| e.with_file(path))?;
     if !head.binary {
         let bytes = std::fs::read(path).map_err(io)?;
-        return read(&bytes).map_err(|e| e.with_file(path));
+        return read_labelled(&bytes, &cur.label).map_err(|e| e.with_file(path));
     }
     read_body(cur).map_err(|e| e.with_file(path))
 }

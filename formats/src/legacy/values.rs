@@ -293,11 +293,9 @@ fn read_strings(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<String
                         format!("{what}: string {i} declares {len} bytes, more than remain"),
                     )
                 })?;
+            let at = cur.pos;
             let s = cur.take(len, what)?;
-            out.push(
-                String::from_utf8(s)
-                    .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()),
-            );
+            out.push(cur.name(at, &s, false, &format!("{what}: string {i}")));
         }
         return Ok(out);
     }
@@ -310,7 +308,9 @@ fn read_strings(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<String
                 format!("{what}: unexpected end of file after {i} of {n} strings"),
             ));
         }
-        out.push(super::names::decode(cur.line()));
+        let at = cur.pos;
+        let line = cur.line().to_vec();
+        out.push(cur.name(at, &line, true, &format!("{what}: string {i}")));
     }
     Ok(out)
 }

@@ -880,3 +880,19 @@ fn gmsh_partitioned_files_keep_the_physical_groups_of_the_unpartitioned_mesh() -
     assert!(parts.iter().all(|p| [1, 2].contains(p)));
     Ok(())
 }
+
+#[test]
+fn physical_names_that_are_not_utf8_are_kept_lossily() -> Result<()> {
+    let mut text = V41.as_bytes().to_vec();
+    let at = text.windows(4).position(|w| w == b"skin").unwrap_or(0);
+    text[at + 2] = 0xef;
+    let g = read(&text)?;
+    let names_ = g
+        .field_data
+        .iter()
+        .find(|a| a.name == names::PHYSICAL_NAMES);
+    assert!(names_.is_some_and(
+        |a| a.data == ArrayData::String(vec!["sk\u{fffd}n".into(), "solid part".into()])
+    ));
+    Ok(())
+}
