@@ -227,18 +227,24 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
         }
     }
     if !have_dataset {
-        return Err(cur.err(cur.pos, "unexpected end of file before a DATASET line"));
+        return Err(cur.err(cur.pos, "no DATASET line before the end of the file"));
     }
     if let Some(l) = lattice {
         l.finish(&cur, &mut grid, have_points)?;
         return Ok(grid);
     }
     if !have_points && raw.is_some() {
-        return Err(cur.err(cur.pos, "CELLS given but the file ends without POINTS"));
+        return Err(cur.err(
+            cur.pos,
+            "CELLS given but no POINTS before the end of the file",
+        ));
     }
     if let Some(secs) = poly {
         if !have_points && !secs.is_empty() {
-            return Err(cur.err(cur.pos, "cells given but the file ends without POINTS"));
+            return Err(cur.err(
+                cur.pos,
+                "cells given but no POINTS before the end of the file",
+            ));
         }
         grid.cells = poly_cells(&cur, secs, grid.num_points())?;
         return Ok(grid);
@@ -246,10 +252,16 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     grid.cells = match (raw, types) {
         (None, None) => Cells::new(),
         (Some(_), None) => {
-            return Err(cur.err(cur.pos, "CELLS given but the file ends without CELL_TYPES"))
+            return Err(cur.err(
+                cur.pos,
+                "CELLS given but no CELL_TYPES before the end of the file",
+            ))
         }
         (None, Some((t, p))) if !t.is_empty() => {
-            return Err(cur.err(p, "CELL_TYPES given but the file ends without CELLS"))
+            return Err(cur.err(
+                p,
+                "CELL_TYPES given but no CELLS before the end of the file",
+            ))
         }
         (None, Some(_)) => Cells::new(),
         (Some(raw), Some((t, p))) => assemble(&cur, raw, t, p, grid.num_points())?,
