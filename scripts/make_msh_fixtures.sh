@@ -18,6 +18,11 @@
 #                         a constant) and $ElementNodeData (Plugin(MathEval), list based), plus
 #                         hand-made sections this script appends: a second time step of the node
 #                         view and an $ElementData vector view
+#   twobodies_41.msh, twobodies_part_41.msh, twobodies_part_41_bin.msh
+#                         a cube and a ball (physical volumes "box" 1 and "ball" 2, the cube's
+#                         top face physical surface "boxtop" 3), unpartitioned and split by
+#                         `-part 2` (MSH 4.1 ASCII and binary: $PartitionedEntities, whose
+#                         interface surface gets its own triangles)
 set -euo pipefail
 out="$(cd "$(dirname "$0")/.." && pwd)/fixtures/msh"
 mkdir -p "$out/gmsh_vtk"
@@ -84,6 +89,16 @@ PostProcessing.SaveMesh = 0;
 Save View[1] "views_elementnode.msh";
 GEO
 
+cat >"$work/twobodies.geo" <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Sphere(2) = {3, 0.5, 0.5, 0.6};
+Mesh.CharacteristicLengthMax = 0.5;
+Physical Volume("box") = {1};
+Physical Volume("ball") = {2};
+Physical Surface("boxtop") = {6};
+GEO
+
 run() { # geo, output, extra gmsh options...
   local geo=$1 o=$2
   shift 2
@@ -112,8 +127,12 @@ vtk mixed_o2i.vtk mixed_o2i
 run tet_o2 tet_o2_41_bin.msh -format msh41 -bin
 run tet_o2 tet_o2.vtk -format vtk
 vtk tet_o2.vtk tet_o2
+run twobodies twobodies_41.msh -format msh41
+run twobodies twobodies_part_41.msh -format msh41 -part 2
+run twobodies twobodies_part_41_bin.msh -format msh41 -bin -part 2
 for f in block_hole_41 block_hole_41_bin block_hole_22 block_hole_22_bin mixed_41 params_41 \
-  params_41_bin mixed_o2_41 mixed_o2i_22_bin tet_o2_41_bin; do
+  params_41_bin mixed_o2_41 mixed_o2i_22_bin tet_o2_41_bin twobodies_41 twobodies_part_41 \
+  twobodies_part_41_bin; do
   cp "$work/$f.msh" "$out/$f.msh"
 done
 

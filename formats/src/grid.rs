@@ -581,7 +581,22 @@ pub mod cell_type {
     pub const CUBIC_LINE: u8 = 35;
     pub const QUADRATIC_POLYGON: u8 = 36;
     pub const TRIQUADRATIC_PYRAMID: u8 = 37;
+    pub const CONVEX_POINT_SET: u8 = 41;
     pub const POLYHEDRON: u8 = 42;
+    pub const LAGRANGE_CURVE: u8 = 68;
+    pub const LAGRANGE_TRIANGLE: u8 = 69;
+    pub const LAGRANGE_QUADRILATERAL: u8 = 70;
+    pub const LAGRANGE_TETRAHEDRON: u8 = 71;
+    pub const LAGRANGE_HEXAHEDRON: u8 = 72;
+    pub const LAGRANGE_WEDGE: u8 = 73;
+    pub const LAGRANGE_PYRAMID: u8 = 74;
+    pub const BEZIER_CURVE: u8 = 75;
+    pub const BEZIER_TRIANGLE: u8 = 76;
+    pub const BEZIER_QUADRILATERAL: u8 = 77;
+    pub const BEZIER_TETRAHEDRON: u8 = 78;
+    pub const BEZIER_HEXAHEDRON: u8 = 79;
+    pub const BEZIER_WEDGE: u8 = 80;
+    pub const BEZIER_PYRAMID: u8 = 81;
 
     /// The VTK name of a cell type (`VTK_TETRA` without the prefix, lower case).
     pub fn name(t: u8) -> &'static str {
@@ -620,13 +635,29 @@ pub mod cell_type {
             CUBIC_LINE => "cubic_line",
             QUADRATIC_POLYGON => "quadratic_polygon",
             TRIQUADRATIC_PYRAMID => "triquadratic_pyramid",
+            CONVEX_POINT_SET => "convex_point_set",
             POLYHEDRON => "polyhedron",
+            LAGRANGE_CURVE => "lagrange_curve",
+            LAGRANGE_TRIANGLE => "lagrange_triangle",
+            LAGRANGE_QUADRILATERAL => "lagrange_quadrilateral",
+            LAGRANGE_TETRAHEDRON => "lagrange_tetrahedron",
+            LAGRANGE_HEXAHEDRON => "lagrange_hexahedron",
+            LAGRANGE_WEDGE => "lagrange_wedge",
+            LAGRANGE_PYRAMID => "lagrange_pyramid",
+            BEZIER_CURVE => "bezier_curve",
+            BEZIER_TRIANGLE => "bezier_triangle",
+            BEZIER_QUADRILATERAL => "bezier_quadrilateral",
+            BEZIER_TETRAHEDRON => "bezier_tetrahedron",
+            BEZIER_HEXAHEDRON => "bezier_hexahedron",
+            BEZIER_WEDGE => "bezier_wedge",
+            BEZIER_PYRAMID => "bezier_pyramid",
             _ => "unknown",
         }
     }
 
     /// Number of points a cell of this type has, or `None` for variable-size types
-    /// (poly vertex, poly line, strip, polygon, polyhedron, quadratic polygon) and unknown ids.
+    /// (poly vertex, poly line, strip, polygon, polyhedron, quadratic polygon, convex point set,
+    /// Lagrange and Bezier cells) and unknown ids.
     pub fn fixed_size(t: u8) -> Option<usize> {
         Some(match t {
             EMPTY_CELL => 0,
@@ -662,17 +693,68 @@ pub mod cell_type {
     /// Whether `t` is a cell type id this crate knows.
     pub fn is_known(t: u8) -> bool {
         fixed_size(t).is_some()
+            || is_higher_order(t)
             || matches!(
                 t,
-                POLY_VERTEX | POLY_LINE | TRIANGLE_STRIP | POLYGON | QUADRATIC_POLYGON | POLYHEDRON
+                POLY_VERTEX
+                    | POLY_LINE
+                    | TRIANGLE_STRIP
+                    | POLYGON
+                    | QUADRATIC_POLYGON
+                    | POLYHEDRON
+                    | CONVEX_POINT_SET
             )
+    }
+
+    /// Whether `t` is a Lagrange cell (types 68-74).
+    pub fn is_lagrange(t: u8) -> bool {
+        (LAGRANGE_CURVE..=LAGRANGE_PYRAMID).contains(&t)
+    }
+
+    /// Whether `t` is a Bezier cell (types 75-81).
+    pub fn is_bezier(t: u8) -> bool {
+        (BEZIER_CURVE..=BEZIER_PYRAMID).contains(&t)
+    }
+
+    /// Whether `t` is an arbitrary-order Lagrange or Bezier cell, whose order the file gives only
+    /// through its point count (or a `HigherOrderDegrees` cell array).
+    pub fn is_higher_order(t: u8) -> bool {
+        is_lagrange(t) || is_bezier(t)
+    }
+
+    /// The linear cell with the same shape as a Lagrange or Bezier cell (line, triangle, quad,
+    /// tetra, hexahedron, wedge, pyramid), or `None` for other types. VTK lists a higher-order
+    /// cell's corners first, in its linear counterpart's order, so the first
+    /// `fixed_size(linear_counterpart(t))` point ids of such a cell are its corners (Lagrange) or
+    /// its corner control points, which Bezier cells interpolate.
+    pub fn linear_counterpart(t: u8) -> Option<u8> {
+        let shape = if is_lagrange(t) {
+            t - LAGRANGE_CURVE
+        } else if is_bezier(t) {
+            t - BEZIER_CURVE
+        } else {
+            return None;
+        };
+        [LINE, TRIANGLE, QUAD, TETRA, HEXAHEDRON, WEDGE, PYRAMID]
+            .get(shape as usize)
+            .copied()
+    }
+
+    /// The fewest points a variable-size cell of type `t` can have, where the type sets one:
+    /// the corners of a Lagrange or Bezier cell's shape (order 1), and 4 for a convex point set
+    /// (the fewest that enclose a volume). `None` for other types, whose sizes are not checked.
+    pub fn min_size(t: u8) -> Option<usize> {
+        if t == CONVEX_POINT_SET {
+            return Some(4);
+        }
+        linear_counterpart(t).and_then(fixed_size)
     }
 
     /// Topological dimension: 0 points, 1 lines, 2 surfaces, 3 solids.
     pub fn dimension(t: u8) -> u8 {
         match t {
             EMPTY_CELL | VERTEX | POLY_VERTEX => 0,
-            LINE | POLY_LINE | QUADRATIC_EDGE | CUBIC_LINE => 1,
+            LINE | POLY_LINE | QUADRATIC_EDGE | CUBIC_LINE | LAGRANGE_CURVE | BEZIER_CURVE => 1,
             TRIANGLE
             | TRIANGLE_STRIP
             | POLYGON
@@ -683,7 +765,11 @@ pub mod cell_type {
             | BIQUADRATIC_QUAD
             | QUADRATIC_LINEAR_QUAD
             | BIQUADRATIC_TRIANGLE
-            | QUADRATIC_POLYGON => 2,
+            | QUADRATIC_POLYGON
+            | LAGRANGE_TRIANGLE
+            | LAGRANGE_QUADRILATERAL
+            | BEZIER_TRIANGLE
+            | BEZIER_QUADRILATERAL => 2,
             _ => 3,
         }
     }
@@ -763,6 +849,55 @@ impl Cells {
         self.types.push(ty);
         self.connectivity.extend_from_slice(ids);
         self.offsets.push(self.connectivity.len() as i64);
+    }
+}
+
+/// An array that [`Grid::rename_duplicates`] renamed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Renamed {
+    /// `point`, `cell` or `field`.
+    pub set: &'static str,
+    /// The name it shared with an earlier array.
+    pub name: String,
+    /// Its new name.
+    pub new_name: String,
+    /// The earlier array's type and its own (`Float32`, `String`, ...).
+    pub first_type: &'static str,
+    pub its_type: &'static str,
+}
+
+impl fmt::Display for Renamed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} data has two arrays named '{}' ({} and {}); the second is read as '{}'",
+            self.set, self.name, self.first_type, self.its_type, self.new_name
+        )
+    }
+}
+
+fn rename_in(set: &'static str, arrays: &mut [DataArray], out: &mut Vec<Renamed>) {
+    let mut taken: std::collections::HashSet<String> =
+        arrays.iter().map(|a| a.name.clone()).collect();
+    let mut seen: std::collections::HashMap<String, &'static str> = Default::default();
+    for a in arrays.iter_mut() {
+        let Some(&first_type) = seen.get(&a.name) else {
+            seen.insert(a.name.clone(), a.data.type_name());
+            continue;
+        };
+        let new_name = (2u64..)
+            .map(|k| format!("{} ({k})", a.name))
+            .find(|n| !taken.contains(n))
+            .unwrap_or_default();
+        taken.insert(new_name.clone());
+        seen.insert(new_name.clone(), a.data.type_name());
+        out.push(Renamed {
+            set,
+            name: std::mem::replace(&mut a.name, new_name.clone()),
+            new_name,
+            first_type,
+            its_type: a.data.type_name(),
+        });
     }
 }
 
@@ -850,7 +985,8 @@ impl Grid {
 
     /// Checks the structure: every coordinate is finite (NaN or infinite points make every later
     /// stage meaningless, so they are refused at the door); offsets start at 0, never decrease and end at the connectivity length;
-    /// every cell type is known and has its fixed point count; every point id is in range; every
+    /// every cell type is known and has its fixed point count (or, for Lagrange, Bezier and convex
+    /// point set cells, at least their minimum); every point id is in range; every
     /// point (cell) data array has one tuple per point (cell); points have 3 components.
     /// The message names the array or cell that is wrong.
     pub fn validate(&self) -> Result<(), String> {
@@ -913,7 +1049,7 @@ impl Grid {
                 && cell_type::is_known(t)
                 && match cell_type::fixed_size(t) {
                     Some(n) => (b - a) as usize == n,
-                    None => true,
+                    None => cell_type::min_size(t).map_or(true, |m| (b - a) as usize >= m),
                 }
         };
         if let Some(i) = first_where(c.types.len(), |i| !cell_ok(i)) {
@@ -933,6 +1069,13 @@ impl Grid {
                         b - a
                     ));
                 }
+            }
+            if let Some(m) = cell_type::min_size(t) {
+                return Err(format!(
+                    "cell {i} is a {} with {} points, expected at least {m}",
+                    cell_type::name(t),
+                    b - a
+                ));
             }
         }
         if let Some(bad) = first_where(c.connectivity.len(), |k| {
@@ -967,6 +1110,29 @@ impl Grid {
         Ok(())
     }
 
+    /// Gives every point, cell and field data array a name no other array of its set has: VTK
+    /// keeps one array per name, so a file that repeats a name would be written back ambiguous.
+    /// The first array keeps the name, a later one becomes `NAME (2)` (or the first free
+    /// `NAME (k)`); values, type and components are untouched. Each set keeps at most one
+    /// active array per role, the first named, which is the array that kept its name.
+    pub fn rename_duplicates(&mut self) -> Vec<Renamed> {
+        let mut out = Vec::new();
+        for (set, attrs) in [
+            ("point", &mut self.point_data),
+            ("cell", &mut self.cell_data),
+        ] {
+            rename_in(set, &mut attrs.arrays, &mut out);
+            let mut seen = Vec::new();
+            attrs.active.retain(|(role, _)| {
+                let first = !seen.contains(role);
+                seen.push(*role);
+                first
+            });
+        }
+        rename_in("field", &mut self.field_data, &mut out);
+        out
+    }
+
     /// Number of cells of each type, sorted by type id.
     pub fn cell_type_counts(&self) -> Vec<(u8, usize)> {
         let mut counts = [0usize; 256];
@@ -977,5 +1143,67 @@ impl Grid {
             .filter(|&t| counts[t] > 0)
             .map(|t| (t as u8, counts[t]))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arr(name: &str, data: ArrayData) -> DataArray {
+        DataArray::new(name, 1, data)
+    }
+
+    #[test]
+    fn repeated_names_are_made_unique_keeping_the_first_and_every_value() {
+        let mut g = Grid::default();
+        g.point_data.arrays = vec![
+            arr("p", ArrayData::Float32(vec![])),
+            arr("p (2)", ArrayData::Int8(vec![])),
+            arr("p", ArrayData::Float64(vec![])),
+            arr("p", ArrayData::Int32(vec![])),
+            arr("q", ArrayData::Int32(vec![])),
+        ];
+        g.point_data.active = vec![
+            (Attribute::Scalars, "p".into()),
+            (Attribute::Scalars, "p".into()),
+            (Attribute::Vectors, "q".into()),
+        ];
+        g.cell_data.arrays = vec![arr("c", ArrayData::Int32(vec![]))];
+        g.field_data = vec![
+            arr("f", ArrayData::String(vec![])),
+            arr("f", ArrayData::UInt8(vec![])),
+        ];
+        let before = g.clone();
+        let r = g.rename_duplicates();
+        let names: Vec<&str> = g
+            .point_data
+            .arrays
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect();
+        assert_eq!(names, ["p", "p (2)", "p (3)", "p (4)", "q"]);
+        assert_eq!(g.field_data[1].name, "f (2)");
+        assert_eq!(g.cell_data, before.cell_data);
+        for (a, b) in g.point_data.arrays.iter().zip(&before.point_data.arrays) {
+            assert!(a.data.bit_eq(&b.data) && a.components == b.components);
+        }
+        assert_eq!(
+            g.point_data.active,
+            vec![
+                (Attribute::Scalars, "p".to_string()),
+                (Attribute::Vectors, "q".to_string())
+            ]
+        );
+        assert_eq!(r.len(), 3);
+        assert_eq!(
+            r[0].to_string(),
+            "point data has two arrays named 'p' (Float32 and Float64); the second is read as 'p (3)'"
+        );
+        assert_eq!(
+            r[2].to_string(),
+            "field data has two arrays named 'f' (String and UInt8); the second is read as 'f (2)'"
+        );
+        assert!(g.rename_duplicates().is_empty());
     }
 }

@@ -14,6 +14,8 @@ pub mod collection;
 pub mod error;
 pub mod exodus;
 pub mod grid;
+#[cfg(test)]
+mod highorder_tests;
 pub mod legacy;
 pub mod medit;
 pub mod msh;
@@ -25,7 +27,8 @@ pub mod vtu;
 pub use collection::{pvd, vtm};
 pub use error::{FormatError, Place, Result};
 pub use grid::{
-    cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, Grid, PolySection, ScalarType,
+    cell_type, ArrayData, Attribute, Attributes, Cells, DataArray, Grid, PolySection, Renamed,
+    ScalarType,
 };
 
 use std::io::Write;
@@ -34,6 +37,41 @@ use std::path::Path;
 /// Prints a warning on stderr, as every reader words it: something was read but not kept whole.
 pub(crate) fn warn(msg: &str) {
     eprintln!("tetkit: warning: {msg}");
+}
+
+/// `bytes` as text, and when they are not UTF-8 (each bad sequence then becomes U+FFFD) what
+/// they were, with every byte that is not printable ASCII written `\xNN`.
+pub(crate) fn lossy_text(bytes: &[u8]) -> (String, Option<String>) {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => (s.to_string(), None),
+        Err(_) => {
+            let mut raw = String::with_capacity(bytes.len() + 8);
+            for &b in bytes.iter().take(80) {
+                if b.is_ascii_graphic() || b == b' ' {
+                    raw.push(b as char);
+                } else {
+                    raw.push_str(&format!("\\x{b:02x}"));
+                }
+            }
+            if bytes.len() > 80 {
+                raw.push_str("...");
+            }
+            (String::from_utf8_lossy(bytes).into_owned(), Some(raw))
+        }
+    }
+}
+
+/// [`lossy_text`], with a warning naming `file`, `place` and `what` when the text is not UTF-8:
+/// the name is kept (lossily) rather than the file refused, but it will not be written back as
+/// the file had it.
+pub(crate) fn text_or_warn(bytes: &[u8], file: &str, place: &str, what: &str) -> String {
+    let (s, raw) = lossy_text(bytes);
+    if let Some(raw) = raw {
+        warn(&format!(
+            "{file}: {place}: {what} '{raw}' is not UTF-8; read as '{s}'"
+        ));
+    }
+    s
 }
 
 /// A file format, chosen from the file name and checked against the content.
@@ -415,10 +453,19 @@ pub fn read(path: &Path) -> Result<Grid> {
     checked(grid, path)
 }
 
-fn checked(grid: Grid, path: &Path) -> Result<Grid> {
+fn checked(mut grid: Grid, path: &Path) -> Result<Grid> {
+    unique_names(&mut grid, path);
     grid.validate()
         .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")).with_file(path))?;
     Ok(grid)
+}
+
+/// Renames arrays that repeat a name in their set (see [`Grid::rename_duplicates`]), each with
+/// a warning naming the file: every reader's grid passes here.
+fn unique_names(grid: &mut Grid, path: &Path) {
+    for r in grid.rename_duplicates() {
+        warn(&format!("{}: {r}", path.display()));
+    }
 }
 
 /// An `.exo` whose content is another format's is refused as such; content of no known format
@@ -478,7 +525,7 @@ fn check_sniff(path: &Path, format: Format, bytes: &[u8]) -> Result<()> {
 /// Reads a single-file format from memory (stdin, say). `format` `None` sniffs the content.
 /// TetGen, PVTU, VTM and PVD need sibling files and cannot be read this way.
 pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
-    let grid = match format {
+    let mut grid = match format {
         Format::Vtu | Format::Vti | Format::Vtr | Format::Vts | Format::Vtp => vtu::read(bytes)?,
         Format::Legacy => legacy::read(bytes)?,
         Format::Medit => medit::read_bytes(bytes, Path::new("<input>"))?,
@@ -492,6 +539,7 @@ pub fn read_bytes(bytes: &[u8], format: Format) -> Result<Grid> {
             )))
         }
     };
+    unique_names(&mut grid, Path::new("<input>"));
     grid.validate()
         .map_err(|m| FormatError::whole(format!("invalid mesh: {m}")))?;
     Ok(grid)
@@ -601,6 +649,81 @@ mod tests {
         )
         .err();
         assert!(e.is_some_and(|e| e.to_string().contains("does not write")));
+        Ok(())
+    }
+
+    /// A tet whose point, cell and field data repeat names, as some writers do.
+    fn repeated_names() -> Grid {
+        let mut g = Grid::default();
+        g.points.data = ArrayData::Float64(vec![0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.]);
+        g.cells.push(cell_type::TETRA, &[0, 1, 2, 3]);
+        let p32 = DataArray::new("p_f64", 1, ArrayData::Float32(vec![1.0, 2.0, 3.0, 4.0]));
+        let p64 = DataArray::new("p_f64", 1, ArrayData::Float64(vec![5.0, 6.0, 7.0, 8.0]));
+        g.point_data.arrays = vec![p32, p64];
+        g.point_data.active = vec![(Attribute::Scalars, "p_f64".into())];
+        g.cell_data.arrays = vec![
+            DataArray::new("c", 1, ArrayData::Int32(vec![1])),
+            DataArray::new("c", 3, ArrayData::Float64(vec![1.0, 2.0, 3.0])),
+        ];
+        g.field_data = vec![
+            DataArray::new("f", 1, ArrayData::Int64(vec![7, 8])),
+            DataArray::new("f", 1, ArrayData::Float32(vec![0.5])),
+        ];
+        g
+    }
+
+    #[test]
+    fn every_reader_renames_repeated_array_names() -> Result<()> {
+        let g = repeated_names();
+        let opts = WriteOptions {
+            encoding: Encoding::Ascii,
+            ..WriteOptions::default()
+        };
+        for format in [Format::Vtu, Format::Legacy] {
+            let mut bytes = Vec::new();
+            write_to(&mut bytes, format, &g, &opts)?;
+            let back = read_bytes(&bytes, format)?;
+            let names = |a: &[DataArray]| a.iter().map(|a| a.name.clone()).collect::<Vec<_>>();
+            assert_eq!(
+                names(&back.point_data.arrays),
+                ["p_f64", "p_f64 (2)"],
+                "{format:?}"
+            );
+            assert_eq!(names(&back.cell_data.arrays), ["c", "c (2)"], "{format:?}");
+            assert_eq!(names(&back.field_data), ["f", "f (2)"], "{format:?}");
+            let second = back.point_data.get("p_f64 (2)");
+            assert!(second.is_some_and(|a| a.data == ArrayData::Float64(vec![5.0, 6.0, 7.0, 8.0])));
+            let c2 = back.cell_data.get("c (2)");
+            assert!(c2.is_some_and(|a| a.components == 3));
+            let active = back.point_data.active(Attribute::Scalars);
+            assert!(
+                active.is_some_and(|a| a.data.type_name() == "Float32"),
+                "{format:?}"
+            );
+            assert_eq!(back.point_data.active.len(), 1, "{format:?}");
+        }
+        // Through a file too, the path the command line takes.
+        let dir = tempfile::tempdir().map_err(|e| FormatError::whole(e.to_string()))?;
+        let path = dir.path().join("dup.vtu");
+        write(&path, &g, &opts)?;
+        let back = read(&path)?;
+        assert!(back.point_data.get("p_f64 (2)").is_some());
+        Ok(())
+    }
+
+    #[test]
+    fn text_that_is_not_utf8_is_kept_lossily_and_shown_as_written() -> Result<()> {
+        assert_eq!(lossy_text(b"label"), ("label".to_string(), None));
+        let (s, raw) = lossy_text(b"lab\xe9l \x01");
+        assert_eq!(s, "lab\u{fffd}l \u{1}");
+        assert_eq!(raw.as_deref(), Some("lab\\xe9l \\x01"));
+        // The user's file: a FIELD array named lab\xe9l (its title line is not UTF-8 either).
+        let file = b"# vtk DataFile Version 4.2\nt\xe9st\nASCII\nDATASET UNSTRUCTURED_GRID\n\
+POINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n\
+CELL_DATA 1\nFIELD f 1\nlab\xe9l 1 1 string\nv\xe9lue\n";
+        let g = read_bytes(file, Format::Legacy)?;
+        let a = g.cell_data.get("lab\u{fffd}l");
+        assert!(a.is_some_and(|a| a.data == ArrayData::String(vec!["v\u{fffd}lue".into()])));
         Ok(())
     }
 

@@ -3,7 +3,6 @@
 //! blocks, and the METADATA block that may follow any array.
 
 use super::cursor::{is_kw, show, Cursor};
-use super::names;
 use super::values::{read_ascii, read_numeric, read_values, LegacyType};
 use crate::{ArrayData, Attribute, Attributes, DataArray, FormatError};
 
@@ -20,8 +19,8 @@ pub(crate) fn read_type(cur: &mut Cursor<'_>, what: &str) -> Result<LegacyType, 
 
 /// Reads a (%-encoded) array name.
 pub(crate) fn read_name(cur: &mut Cursor<'_>, what: &str) -> Result<String, FormatError> {
-    let (_, t) = cur.require(what)?;
-    Ok(names::decode(&t))
+    let (p, t) = cur.require(what)?;
+    Ok(cur.name(p, &t, true, what))
 }
 
 /// Reads `tuples * components` values of `ty`, then any METADATA block, into a named array.
@@ -54,7 +53,7 @@ pub(crate) fn read_metadata(
     cur: &mut Cursor<'_>,
     components: usize,
 ) -> Result<Option<Vec<String>>, FormatError> {
-    match cur.peek() {
+    match cur.peek_keyword("METADATA or the next keyword")? {
         Some((_, t)) if is_kw(&t, "METADATA") => {}
         _ => return Ok(None),
     }
@@ -80,7 +79,9 @@ pub(crate) fn read_metadata(
                         format!("METADATA: end of file after {k} of {components} component names"),
                     ));
                 }
-                names.push(names::decode(cur.line()));
+                let at = cur.pos;
+                let line = cur.line().to_vec();
+                names.push(cur.name(at, &line, true, &format!("component name {k}")));
             }
         } else if is_kw(word, "INFORMATION") {
             // Keys run to the empty line that also ends the METADATA block.
@@ -110,7 +111,7 @@ pub(crate) fn read_field(cur: &mut Cursor<'_>) -> Result<Vec<DataArray>, FormatE
         if is_kw(&t, "NULL_ARRAY") {
             continue;
         }
-        let name = names::decode(&t);
+        let name = cur.name(p, &t, true, "a FIELD array name");
         let comps = cur.expect_count(&format!("the component count of FIELD array '{name}'"))?;
         if comps == 0 {
             return Err(cur.err(p, format!("FIELD array '{name}' has 0 components")));
@@ -133,7 +134,7 @@ pub(crate) fn read_section(
 ) -> Result<(), FormatError> {
     // The array read last: a number where a keyword should be means it (or its header) is wrong.
     let mut last: Option<String> = None;
-    while let Some((p, t)) = cur.peek() {
+    while let Some((p, t)) = cur.peek_keyword("an attribute keyword")? {
         if is_kw(&t, "POINT_DATA") || is_kw(&t, "CELL_DATA") {
             return Ok(());
         }
@@ -293,7 +294,9 @@ pub(crate) fn read_section(
     Ok(())
 }
 
-/// Adds an array; the first array of each role becomes the active one, as in VTK.
+/// Adds an array; the first array of each role becomes the active one, as in VTK. An array
+/// whose name an earlier one has is kept too (VTK would replace the earlier one): the common
+/// read path renames it.
 fn add(
     attrs: &mut Attributes,
     last: &mut Option<String>,
@@ -311,5 +314,5 @@ fn add(
             attrs.active.push((role, array.name.clone()));
         }
     }
-    attrs.insert(array);
+    attrs.arrays.push(array);
 }

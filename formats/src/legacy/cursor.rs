@@ -27,6 +27,12 @@ pub(crate) struct Cursor<'a> {
     pub binary: bool,
     /// `(keyword line position, data start)` of each binary block, to place errors in them.
     blocks: Vec<(usize, usize)>,
+    /// Whether the last token ran into the end of the input: it may have been cut short.
+    cut: bool,
+    /// Where the last token starts.
+    token_start: usize,
+    /// The file, as warnings name it.
+    pub label: String,
 }
 
 fn is_ws(b: u8) -> bool {
@@ -45,6 +51,9 @@ impl<'a> Cursor<'a> {
             positional: None,
             binary: false,
             blocks: Vec::new(),
+            cut: false,
+            token_start: 0,
+            label: "<input>".into(),
         }
     }
 
@@ -60,6 +69,9 @@ impl<'a> Cursor<'a> {
             positional: None,
             binary: false,
             blocks: Vec::new(),
+            cut: false,
+            token_start: 0,
+            label: "<input>".into(),
         }
     }
 
@@ -121,6 +133,8 @@ impl<'a> Cursor<'a> {
             }
         }
         let start = self.pos;
+        self.token_start = start;
+        self.cut = false;
         loop {
             let i = self.pos - self.base;
             match self.win[i..].iter().position(|&b| is_ws(b)) {
@@ -131,6 +145,7 @@ impl<'a> Cursor<'a> {
                 None => {
                     self.pos = self.base + self.win.len();
                     if !self.fill(start) {
+                        self.cut = true;
                         break;
                     }
                 }
@@ -139,13 +154,79 @@ impl<'a> Cursor<'a> {
         Some((start, &self.win[start - self.base..self.pos - self.base]))
     }
 
+    /// [`Cursor::token`] with whether it ran into the end of the input, so that it may be the
+    /// first bytes of a longer word or number. Only an ASCII file's last data value may end
+    /// there: VTK ends every keyword, name and count with whitespace.
+    pub fn token_cut(&mut self) -> Option<(usize, &[u8], bool)> {
+        self.token()?;
+        let (start, end) = (self.token_start, self.pos);
+        Some((
+            start,
+            &self.win[start - self.base..end - self.base],
+            self.cut,
+        ))
+    }
+
+    /// Text read at byte `at` (a %-encoded name when `escaped`, else raw bytes) as a String.
+    /// Bytes that are not UTF-8 become U+FFFD, with a warning naming the file, the byte and
+    /// `what` was read, since the name written back will differ from the file's.
+    pub fn name(&self, at: usize, t: &[u8], escaped: bool, what: &str) -> String {
+        let raw = if escaped {
+            super::names::unescape(t)
+        } else {
+            t.to_vec()
+        };
+        crate::text_or_warn(&raw, &self.label, &format!("byte {at}"), what)
+    }
+
+    /// The error for token `t` at `p` that ran into the end of the input while `what` was read:
+    /// a truncated file, not a misspelt word.
+    pub fn cut_err(&self, p: usize, t: &[u8], what: &str) -> FormatError {
+        self.err(
+            p,
+            format!(
+                "unexpected end of file in '{}' while reading {what} (the file ends there: truncated?)",
+                show(t)
+            ),
+        )
+    }
+
     /// The next token (copied: keywords, names and counts only), or an error saying what was
-    /// expected.
+    /// expected; a token cut by the end of the file is an unexpected end of file too.
     pub fn require(&mut self, what: &str) -> Result<(usize, Vec<u8>), FormatError> {
         match self.token() {
-            Some((p, t)) => Ok((p, t.to_vec())),
+            Some((p, t)) => {
+                let t = t.to_vec();
+                if self.cut {
+                    return Err(self.cut_err(p, &t, what));
+                }
+                Ok((p, t))
+            }
             None => Err(self.err(self.pos, format!("unexpected end of file, expected {what}"))),
         }
+    }
+
+    /// The next keyword, `None` at the end of the input; one cut by the end of the file is an
+    /// error, as in [`Cursor::require`].
+    pub fn keyword(&mut self, what: &str) -> Result<Option<(usize, Vec<u8>)>, FormatError> {
+        match self.token() {
+            Some((p, t)) => {
+                let t = t.to_vec();
+                if self.cut {
+                    return Err(self.cut_err(p, &t, what));
+                }
+                Ok(Some((p, t)))
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// Peeks at the next keyword without consuming it, as [`Cursor::keyword`] reads it.
+    pub fn peek_keyword(&mut self, what: &str) -> Result<Option<(usize, Vec<u8>)>, FormatError> {
+        let save = self.pos;
+        let t = self.keyword(what);
+        self.pos = save;
+        t
     }
 
     /// The next token as a non-negative count that fits in memory terms (`usize`).
@@ -161,14 +242,6 @@ impl<'a> Cursor<'a> {
                 Err(self.err(p, m))
             }
         }
-    }
-
-    /// Peeks at the next token without consuming it; the text is copied (keywords only).
-    pub fn peek(&mut self) -> Option<(usize, Vec<u8>)> {
-        let save = self.pos;
-        let t = self.token().map(|(p, t)| (p, t.to_vec()));
-        self.pos = save;
-        t
     }
 
     /// The rest of the current line (without `\r\n`), consuming the newline.
@@ -407,7 +480,7 @@ mod tests {
             assert_eq!(c.line(), b"# head");
             assert_eq!(c.require("kw").unwrap().1, b"POINTS");
             assert_eq!(c.expect_count("n").unwrap(), 123456);
-            assert_eq!(c.peek().unwrap().1, b"float");
+            assert!(matches!(c.peek_keyword("type"), Ok(Some((_, t))) if t == b"float"));
             assert_eq!(c.require("type").unwrap().1, b"float");
             assert_eq!(c.line_at(c.pos), 2);
             c.begin_binary();

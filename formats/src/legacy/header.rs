@@ -14,9 +14,23 @@ pub(crate) struct Header {
 
 /// Parses the header and leaves the cursor at the start of the fourth line.
 pub(crate) fn parse(cur: &mut Cursor<'_>) -> Result<Header, FormatError> {
+    if cur.remaining() == 0 {
+        return Err(cur.err(0, "the file is empty"));
+    }
     let first = cur.line().to_vec();
     let first = first.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&first);
     let magic = b"# vtk DataFile Version";
+    let n = first.len().min(magic.len());
+    // The first line alone, and the start of the magic line or all of it: cut short.
+    if cur.remaining() == 0 && first[..n].eq_ignore_ascii_case(&magic[..n]) {
+        return Err(cur.err(
+            0,
+            format!(
+                "unexpected end of file in the first line '{}' (truncated?)",
+                show(first)
+            ),
+        ));
+    }
     if first.len() < magic.len() || !first[..magic.len()].eq_ignore_ascii_case(magic) {
         return Err(cur.err(
             0,

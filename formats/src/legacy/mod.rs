@@ -19,6 +19,8 @@ mod header;
 mod lattice;
 mod names;
 mod read;
+#[cfg(test)]
+mod truncation_tests;
 mod values;
 mod write;
 

@@ -1,7 +1,7 @@
 //! The %XX escaping VTK applies to array names and strings in legacy files.
 
-/// Decodes `%XX` escapes; anything malformed is kept as written.
-pub(crate) fn decode(t: &[u8]) -> String {
+/// The bytes `%XX` escapes stand for.
+pub(crate) fn unescape(t: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(t.len());
     let mut i = 0;
     while i < t.len() {
@@ -16,7 +16,7 @@ pub(crate) fn decode(t: &[u8]) -> String {
         out.push(t[i]);
         i += 1;
     }
-    String::from_utf8_lossy(&out).into_owned()
+    out
 }
 
 /// Escapes what would break a whitespace-separated token or a line: whitespace, `%`, `"`,
@@ -54,8 +54,8 @@ mod tests {
             "METADATA",
             "null_array",
         ] {
-            assert_eq!(decode(encode(s).as_bytes()), s);
+            assert_eq!(unescape(encode(s).as_bytes()), s.as_bytes());
         }
-        assert_eq!(decode(b"a%20b%zz%4"), "a b%zz%4");
+        assert_eq!(unescape(b"a%20b%zz%4"), b"a b%zz%4");
     }
 }

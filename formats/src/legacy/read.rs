@@ -30,7 +30,13 @@ enum RawCells {
 
 /// Parses a whole legacy .vtk file held in memory.
 pub fn read(bytes: &[u8]) -> Result<Grid> {
+    read_labelled(bytes, "<input>")
+}
+
+/// [`read`], naming the file `label` in warnings.
+fn read_labelled(bytes: &[u8], label: &str) -> Result<Grid> {
     let mut cur = Cursor::new(bytes);
+    cur.label = label.to_string();
     header::parse(&mut cur)?;
     read_body(cur)
 }
@@ -45,10 +51,11 @@ pub fn read_path(path: &Path) -> Result<Grid> {
         FormatError::whole("the file is larger than memory can address").with_file(path)
     })?;
     let mut cur = Cursor::from_file(&file, len);
+    cur.label = path.display().to_string();
     let head = header::parse(&mut cur).map_err(|e| e.with_file(path))?;
     if !head.binary {
         let bytes = std::fs::read(path).map_err(io)?;
-        return read(&bytes).map_err(|e| e.with_file(path));
+        return read_labelled(&bytes, &cur.label).map_err(|e| e.with_file(path));
     }
     read_body(cur).map_err(|e| e.with_file(path))
 }
@@ -87,7 +94,7 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
     let mut types: Option<(Vec<u8>, usize)> = None;
     // STRUCTURED_POINTS, STRUCTURED_GRID or RECTILINEAR_GRID.
     let mut lattice: Option<lattice::State> = None;
-    while let Some((p, t)) = cur.token().map(|(p, t)| (p, t.to_vec())) {
+    while let Some((p, t)) = cur.keyword("a keyword")? {
         let t = &t[..];
         if is_kw(t, "DATASET") {
             let (q, kind) = cur.require("the dataset type")?;
@@ -114,9 +121,7 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
                 format!("expected DATASET UNSTRUCTURED_GRID, found '{}'", show(t)),
             ));
         } else if is_kw(t, "FIELD") {
-            for a in read_field(&mut cur)? {
-                upsert(&mut grid.field_data, a);
-            }
+            grid.field_data.extend(read_field(&mut cur)?);
         } else if match lattice.as_mut() {
             Some(l) => l.keyword(&mut cur, p, t)?,
             None => false,
@@ -222,27 +227,41 @@ fn read_body(mut cur: Cursor<'_>) -> Result<Grid> {
         }
     }
     if !have_dataset {
-        return Err(cur.err(cur.pos, "no DATASET line"));
+        return Err(cur.err(cur.pos, "no DATASET line before the end of the file"));
     }
     if let Some(l) = lattice {
         l.finish(&cur, &mut grid, have_points)?;
         return Ok(grid);
     }
     if !have_points && raw.is_some() {
-        return Err(cur.err(cur.pos, "CELLS given but no POINTS"));
+        return Err(cur.err(
+            cur.pos,
+            "CELLS given but no POINTS before the end of the file",
+        ));
     }
     if let Some(secs) = poly {
         if !have_points && !secs.is_empty() {
-            return Err(cur.err(cur.pos, "cells given but no POINTS"));
+            return Err(cur.err(
+                cur.pos,
+                "cells given but no POINTS before the end of the file",
+            ));
         }
         grid.cells = poly_cells(&cur, secs, grid.num_points())?;
         return Ok(grid);
     }
     grid.cells = match (raw, types) {
         (None, None) => Cells::new(),
-        (Some(_), None) => return Err(cur.err(cur.pos, "CELLS given but no CELL_TYPES")),
+        (Some(_), None) => {
+            return Err(cur.err(
+                cur.pos,
+                "CELLS given but no CELL_TYPES before the end of the file",
+            ))
+        }
         (None, Some((t, p))) if !t.is_empty() => {
-            return Err(cur.err(p, "CELL_TYPES given but no CELLS"))
+            return Err(cur.err(
+                p,
+                "CELL_TYPES given but no CELLS before the end of the file",
+            ))
         }
         (None, Some(_)) => Cells::new(),
         (Some(raw), Some((t, p))) => assemble(&cur, raw, t, p, grid.num_points())?,
@@ -309,13 +328,6 @@ fn first_non_finite(d: &ArrayData) -> Option<usize> {
     }
 }
 
-fn upsert(v: &mut Vec<DataArray>, a: DataArray) {
-    match v.iter_mut().find(|x| x.name == a.name) {
-        Some(slot) => *slot = a,
-        None => v.push(a),
-    }
-}
-
 fn to_i64(cur: &Cursor<'_>, at: usize, what: &str, data: ArrayData) -> Result<Vec<i64>> {
     data.into_i64().map_err(|e| match e {
         Some(x) => cur.err(at, format!("{what}: {x} is too large")),
@@ -328,7 +340,7 @@ fn to_i64(cur: &Cursor<'_>, at: usize, what: &str, data: ArrayData) -> Result<Ve
 fn read_cells(cur: &mut Cursor<'_>, at: usize) -> Result<RawCells> {
     let a = cur.expect_count("the CELLS count")?;
     let b = cur.expect_count("the CELLS size")?;
-    match cur.peek() {
+    match cur.peek_keyword("OFFSETS or the cell list")? {
         Some((_, t)) if is_kw(&t, "OFFSETS") => {
             cur.token();
             let ty = read_type(cur, "OFFSETS")?;

@@ -175,12 +175,19 @@ pub(crate) fn read_ascii<T>(
     }
     let mut out = Vec::with_capacity(n.min(cur.remaining() / 2 + 1));
     for i in 0..n {
-        let Some((p, t)) = cur.token() else {
+        let binary = cur.binary;
+        let Some((p, t, cut)) = cur.token_cut() else {
             return Err(cur.err(
                 cur.pos,
                 format!("{what}: unexpected end of file after {i} of {n} values"),
             ));
         };
+        // An ASCII file's last value may lack its newline (VTK reads it so); anything else that
+        // runs into the end was cut.
+        if cut && (binary || i + 1 < n) {
+            let t = t.to_vec();
+            return Err(cur.cut_err(p, &t, &format!("{what}, value {i} of {n}")));
+        }
         match parse(t) {
             Some(v) => out.push(v),
             None => {
@@ -286,11 +293,9 @@ fn read_strings(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<String
                         format!("{what}: string {i} declares {len} bytes, more than remain"),
                     )
                 })?;
+            let at = cur.pos;
             let s = cur.take(len, what)?;
-            out.push(
-                String::from_utf8(s)
-                    .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()),
-            );
+            out.push(cur.name(at, &s, false, &format!("{what}: string {i}")));
         }
         return Ok(out);
     }
@@ -303,7 +308,9 @@ fn read_strings(cur: &mut Cursor<'_>, n: usize, what: &str) -> Result<Vec<String
                 format!("{what}: unexpected end of file after {i} of {n} strings"),
             ));
         }
-        out.push(super::names::decode(cur.line()));
+        let at = cur.pos;
+        let line = cur.line().to_vec();
+        out.push(cur.name(at, &line, true, &format!("{what}: string {i}")));
     }
     Ok(out)
 }

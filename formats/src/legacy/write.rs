@@ -289,12 +289,13 @@ impl Out<'_> {
     }
 
     fn section(&mut self, attrs: &Attributes, grid: &Grid) -> Result<()> {
-        let mut written: Vec<&str> = Vec::new();
+        // By identity, not name: arrays that share a name are each written.
+        let mut written: Vec<&DataArray> = Vec::new();
         for role in Attribute::ALL {
             let Some(a) = attrs.active(role) else {
                 continue;
             };
-            if written.contains(&a.name.as_str()) {
+            if written.iter().any(|w| std::ptr::eq(*w, a)) {
                 continue;
             }
             let Some(kw) = keyword(role, a) else { continue };
@@ -316,12 +317,12 @@ impl Out<'_> {
             if let Some((name, table)) = lut {
                 self.lookup_table(&name, table)?;
             }
-            written.push(&a.name);
+            written.push(a);
         }
         let rest: Vec<&DataArray> = attrs
             .arrays
             .iter()
-            .filter(|a| !written.contains(&a.name.as_str()))
+            .filter(|a| !written.iter().any(|w| std::ptr::eq(*w, *a)))
             .collect();
         if !rest.is_empty() {
             self.field_block(&rest)?;

@@ -33,6 +33,10 @@ pub(crate) struct Builder {
     pub element_tags: Vec<i64>,
     pub physical: Vec<i32>,
     pub geometrical: Vec<i32>,
+    /// First partition of each element's entity, filled in partitioned MSH 4.1 files only.
+    pub partition: Vec<i32>,
+    /// Elements on entities shared by several partitions (interfaces).
+    pub shared_partition_cells: usize,
     pub elements_read: bool,
     /// Element tag to cell index, built when element data first needs it.
     element_index: Option<TagMap>,
@@ -218,6 +222,19 @@ impl Builder {
             1,
             ArrayData::Int32(self.geometrical),
         ));
+        if !self.partition.is_empty() {
+            if self.shared_partition_cells > 0 {
+                warn(&format!(
+                    "{path_for_warnings}: {} cells lie on entities shared by several partitions; gmsh:partition keeps the first partition of each",
+                    self.shared_partition_cells
+                ));
+            }
+            g.cell_data.arrays.push(DataArray::new(
+                names::PARTITION,
+                1,
+                ArrayData::Int32(self.partition),
+            ));
+        }
         g.cell_data.arrays.push(DataArray::new(
             names::ELEMENT_TAG,
             1,
@@ -266,13 +283,9 @@ impl Builder {
             } else {
                 &mut g.cell_data
             };
-            if set.get(&a.name).is_some() {
-                warn(&format!(
-                    "{path_for_warnings}: a second array named '{}' replaces the first",
-                    a.name
-                ));
-            }
-            set.insert(a);
+            // A view named like another array (gmsh:physical, say) is kept beside it; the
+            // common read path renames it, with a warning.
+            set.arrays.push(a);
         }
         for (key, t) in times {
             let name = format!("{}{}", names::TIME_PREFIX, &key[1..]);

@@ -177,7 +177,13 @@ impl<'a> Cursor<'a> {
                 self.err_at(start, format!("{what} has no closing quote on its line"))
             })?;
         self.pos = start + 1 + len + 1;
-        Ok(String::from_utf8_lossy(&rest[..len]).into_owned())
+        let place = format!("byte {start}");
+        Ok(crate::text_or_warn(
+            &rest[..len],
+            &self.file_name(),
+            &place,
+            what,
+        ))
     }
 
     /// Expects the `$EndNAME` line of a section.

@@ -19,6 +19,8 @@ pub mod names {
     pub const PHYSICAL: &str = "gmsh:physical";
     pub const GEOMETRICAL: &str = "gmsh:geometrical";
     pub const ELEMENT_TAG: &str = "gmsh:element_tag";
+    /// Partitioned MSH 4.1 files: the (first) partition of each cell's entity.
+    pub const PARTITION: &str = "gmsh:partition";
     pub const PHYSICAL_NAMES: &str = "gmsh:physical_names";
     pub const PHYSICAL_DIMS: &str = "gmsh:physical_dims";
     pub const PHYSICAL_TAGS: &str = "gmsh:physical_tags";
@@ -51,6 +53,13 @@ pub fn read_path(path: &Path) -> Result<Grid> {
 /// with a warning; unknown sections are skipped. MSH 1, 3 and 4.0 and elements of order 3 or
 /// more are refused with an error that says so.
 ///
+/// A partitioned MSH 4.1 file (`gmsh -part N`) has `$PartitionedEntities`, and its elements
+/// name those entities: each cell's `gmsh:physical` is the partitioned entity's first physical
+/// tag, else its parent model entity's, and the Int32 cell array `gmsh:partition` gives the
+/// entity's partition (the first one listed for an entity on an interface between partitions,
+/// with a warning); `gmsh:geometrical` is the partitioned entity's tag, as the file names it.
+/// Ghost entities are skipped, as is `$GhostElements`.
+///
 /// MSH 2.2 has no entities: each element carries its physical and elementary tags, and Gmsh
 /// writes an element that is in several physical groups once per group, under new element tags;
 /// those copies stay separate cells.
@@ -79,6 +88,15 @@ pub fn read_from(bytes: &[u8], path: Option<&Path>) -> Result<Grid> {
             "MeshFormat" => return Err(c.err_at(at, "a second $MeshFormat section")),
             "PhysicalNames" => data::physical_names(&mut c, &mut b)?,
             "Entities" if version == Version::V41 => read_v4::entities(&mut c, &mut physicals)?,
+            "PartitionedEntities" if version == Version::V41 => {
+                if physicals.is_partitioned {
+                    return Err(second(&c));
+                }
+                if b.elements_read {
+                    return Err(c.err_at(at, "$PartitionedEntities after the $Elements section"));
+                }
+                read_v4::partitioned_entities(&mut c, &mut physicals)?
+            }
             "Nodes" => {
                 if b.nodes_read {
                     return Err(second(&c));
@@ -107,12 +125,6 @@ pub fn read_from(bytes: &[u8], path: Option<&Path>) -> Result<Grid> {
                 return Err(c.err_at(at, format!("${n} without its opening section")))
             }
             other => {
-                if other == "PartitionedEntities" {
-                    warn(&format!(
-                        "{}: $PartitionedEntities skipped: elements of partitioned entities get gmsh:physical 0",
-                        c.file_name()
-                    ));
-                }
                 // Gmsh skips sections it does not know; so does tetkit ($Periodic,
                 // $InterpolationScheme, $Parametrizations, ...).
                 c.skip_section(other)?

@@ -755,3 +755,144 @@ fn every_other_refusal_names_what_was_wrong() {
         "a group of 9 elements, 3 left to read",
     );
 }
+
+/// The hand-made V41 file split into partitions: the tet's volume (no physical tag of its own,
+/// on the interface of partitions 2 and 1) and the triangle's surface (its own tag 4).
+fn v41_partitioned() -> Vec<u8> {
+    let text = V41
+        .replace(
+            "$Nodes\n",
+            "$PartitionedEntities\n2\n1\n9 1\n0 0 1 1\n\
+             8 2 3 1 2 0 0 0 1 1 1 1 4 0\n\
+             7 3 5 2 2 1 0 0 0 1 1 1 0 0\n$EndPartitionedEntities\n$Nodes\n",
+        )
+        .replace("3 5 4 1\n1 10", "3 7 4 1\n1 10")
+        .replace("2 3 2 1\n2 10", "2 8 2 1\n2 10");
+    text.into_bytes()
+}
+
+fn int32s<'g>(g: &'g [crate::DataArray], name: &str) -> Option<&'g [i32]> {
+    match &g.iter().find(|a| a.name == name)?.data {
+        ArrayData::Int32(v) => Some(v),
+        _ => None,
+    }
+}
+
+#[test]
+fn partitioned_entities_give_physical_groups_and_partitions() -> Result<()> {
+    let g = read(&v41_partitioned())?;
+    let cd = &g.cell_data.arrays;
+    // The volume has no tag of its own: its parent's first (9); the surface its own (4).
+    assert_eq!(int32s(cd, names::PHYSICAL), Some(&[9, 4][..]));
+    assert_eq!(int32s(cd, names::PARTITION), Some(&[2, 2][..]));
+    assert_eq!(int32s(cd, names::GEOMETRICAL), Some(&[7, 8][..]));
+    let plain = read(V41.as_bytes())?;
+    assert!(int32s(&plain.cell_data.arrays, names::PARTITION).is_none());
+    Ok(())
+}
+
+#[test]
+fn partitioned_entities_errors_name_the_place() {
+    let s = String::from_utf8_lossy(&v41_partitioned()).into_owned();
+    let two_surfaces =
+        s.replacen("0 0 1 1\n8 2", "0 0 2 0\n8 2", 1)
+            .replacen("7 3 5 2 2 1", "8 3 5 2 2 1", 1);
+    let cut = s.find("7 3 5 2").map_or(0, |i| i + 9);
+    for (text, needle) in [
+        (
+            s.replacen("7 3 5 2 2 1", "7 3 5 0 2 1", 1),
+            "is in no partition",
+        ),
+        (two_surfaces, "appears twice"),
+        (
+            s.replacen("$EndPartitionedEntities", "", 1),
+            "expected $EndPartitionedEntities",
+        ),
+        (s[..cut].to_string(), "partition"),
+    ] {
+        let e = read(text.as_bytes()).err();
+        assert!(
+            e.as_ref().is_some_and(
+                |e| e.to_string().contains(needle) && matches!(e.place, Place::Line(_))
+            ),
+            "{needle}: {e:?}"
+        );
+    }
+}
+
+fn fixture(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures/msh")
+        .join(name)
+}
+
+/// Physical group of each tetrahedron and triangle, by its centroid (to 1e-9).
+fn groups_by_centroid(g: &Grid) -> std::collections::BTreeMap<(u8, [i64; 3]), i32> {
+    let phys = int32s(&g.cell_data.arrays, names::PHYSICAL).unwrap_or(&[]);
+    let mut out = std::collections::BTreeMap::new();
+    for (i, &p) in phys.iter().enumerate() {
+        let t = g.cells.types[i];
+        let ids = g.cells.cell(i);
+        let mut c = [0i64; 3];
+        for (k, ck) in c.iter_mut().enumerate() {
+            let sum: f64 = ids.iter().map(|&v| g.point(v as usize)[k]).sum();
+            *ck = (sum / ids.len() as f64 * 1e9).round() as i64;
+        }
+        out.insert((t, c), p);
+    }
+    out
+}
+
+#[test]
+fn gmsh_partitioned_files_keep_the_physical_groups_of_the_unpartitioned_mesh() -> Result<()> {
+    let whole = read_path(&fixture("twobodies_41.msh"))?;
+    let ascii = read_path(&fixture("twobodies_part_41.msh"))?;
+    let binary = read_path(&fixture("twobodies_part_41_bin.msh"))?;
+    // ASCII coordinates carry 16 significant digits, binary ones all 17.
+    assert!(ascii.cells == binary.cells && ascii.cell_data == binary.cell_data);
+    let (a, b) = (ascii.points_f64(), binary.points_f64());
+    assert!(
+        a.len() == b.len()
+            && a.iter()
+                .zip(&b)
+                .all(|(p, q)| (0..3).all(|k| (p[k] - q[k]).abs() < 1e-12))
+    );
+    let want = groups_by_centroid(&whole);
+    let got = groups_by_centroid(&ascii);
+    let count = |m: &std::collections::BTreeMap<(u8, [i64; 3]), i32>, t: u8, p: i32| {
+        m.iter().filter(|(k, &v)| k.0 == t && v == p).count()
+    };
+    for (t, p) in [(ct::TETRA, 1), (ct::TETRA, 2), (ct::TRIANGLE, 3)] {
+        assert!(count(&want, t, p) > 0, "type {t} group {p}");
+        assert_eq!(count(&got, t, p), count(&want, t, p), "type {t} group {p}");
+    }
+    // Every tetrahedron and every boxtop triangle is where it was, in the same group; Gmsh
+    // adds triangles on the interface between the partitions (in the box's group).
+    for (k, p) in &want {
+        assert_eq!(got.get(k), Some(p), "{k:?}");
+    }
+    assert!(got.values().all(|&p| p > 0));
+    let parts = int32s(&ascii.cell_data.arrays, names::PARTITION).unwrap_or(&[]);
+    assert_eq!(parts.len(), ascii.num_cells());
+    for p in [1, 2] {
+        assert!(parts.contains(&p), "partition {p}");
+    }
+    assert!(parts.iter().all(|p| [1, 2].contains(p)));
+    Ok(())
+}
+
+#[test]
+fn physical_names_that_are_not_utf8_are_kept_lossily() -> Result<()> {
+    let mut text = V41.as_bytes().to_vec();
+    let at = text.windows(4).position(|w| w == b"skin").unwrap_or(0);
+    text[at + 2] = 0xef;
+    let g = read(&text)?;
+    let names_ = g
+        .field_data
+        .iter()
+        .find(|a| a.name == names::PHYSICAL_NAMES);
+    assert!(names_.is_some_and(
+        |a| a.data == ArrayData::String(vec!["sk\u{fffd}n".into(), "solid part".into()])
+    ));
+    Ok(())
+}
