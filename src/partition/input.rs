@@ -104,10 +104,10 @@ pub fn tets_of(grid: &Grid, name: &str) -> Result<(TetMesh, Vec<i64>, Vec<String
     if !all_tets_3d {
         let (tets, report) = crate::mesh::tetrahedralize::tetrahedralize(grid, false)
             .with_context(|| format!("{name}: tetrahedralizing"))?;
-        for (t, k) in &report.split {
+        for &(t, k) in &report.split {
             notes.push(format!(
-                "{name}: split {k} {} cells into tets",
-                cell_type::name(*t)
+                "{name}: {}",
+                crate::mesh::tetrahedralize::TetrahedralizeReport::split_line(t, k)
             ));
         }
         if report.dropped > 0 {

@@ -57,11 +57,23 @@ pub struct TetrahedralizeReport {
 }
 
 impl TetrahedralizeReport {
+    /// What splitting `n` cells of type `t` did, for stderr.
+    pub fn split_line(t: u8, n: usize) -> String {
+        if ct::is_higher_order(t) {
+            format!(
+                "split {n} {} cells into tets by their corners (their higher-order nodes and curvature are not used; the nodes stay in the mesh)",
+                ct::name(t)
+            )
+        } else {
+            format!("split {n} {} cells into tets", ct::name(t))
+        }
+    }
+
     /// One line per fact worth telling a user (for stderr).
     pub fn lines(&self) -> Vec<String> {
         let mut out = Vec::new();
-        for (t, n) in &self.split {
-            out.push(format!("split {n} {} cells into tets", ct::name(*t)));
+        for &(t, n) in &self.split {
+            out.push(Self::split_line(t, n));
         }
         if self.centre_points > 0 {
             out.push(format!(
@@ -192,7 +204,7 @@ fn polyhedron_faces(
     Ok(out)
 }
 
-const UNSUPPORTED: &str = "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron, quadratic, quadratic-linear and biquadratic-quadratic wedge, quadratic pyramid)";
+const UNSUPPORTED: &str = "this cell type is not supported by tetrahedralization (supported: tetra, voxel, hexahedron, wedge, pyramid, pentagonal/hexagonal prism, polyhedron, quadratic tetra, quadratic and triquadratic hexahedron, quadratic, quadratic-linear and biquadratic-quadratic wedge, quadratic pyramid, Lagrange and Bezier tetra, hexahedron, wedge and pyramid by their corners)";
 
 /// The 3-D cell types [`tetrahedralize`] splits.
 const SPLITTABLE: [u8; 15] = [
@@ -222,11 +234,10 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
     }
     // Refuse a cell type that cannot be split before anything is made, naming the first such
     // cell (a file mixing them with splittable cells gets the same message wherever they are).
-    if let Some(i) = grid
-        .cells
-        .types
-        .iter()
-        .position(|&t| ct::dimension(t) == 3 && !SPLITTABLE.contains(&t))
+    if let Some(i) =
+        grid.cells.types.iter().position(|&t| {
+            ct::dimension(t) == 3 && !SPLITTABLE.contains(&t) && !ct::is_higher_order(t)
+        })
     {
         let t = grid.cells.types[i];
         bail!("cell {i} ({}, type {t}): {UNSUPPORTED}", ct::name(t));
@@ -272,6 +283,30 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                 } else {
                     out.dropped[t as usize] += 1;
                 }
+                continue;
+            }
+            // Lagrange and Bezier cells by the linear cell of their corners (VTK lists the
+            // corners first, in the linear cell's order; both kinds interpolate at them).
+            let lin = ct::linear_counterpart(t).filter(|_| ct::is_higher_order(t));
+            let (t, ids) = match lin {
+                Some(l) => {
+                    let n = ct::fixed_size(l).unwrap_or(0);
+                    if ids.len() < n {
+                        return Err(fail(&format!(
+                            "has {} nodes, fewer than its {n} corners",
+                            ids.len()
+                        )));
+                    }
+                    (l, &ids[..n])
+                }
+                None => (t, ids),
+            };
+            if let (Some(_), ct::TETRA) = (lin, t) {
+                let q = [ids[0], ids[1], ids[2], ids[3]];
+                let (q, inv) = cells::orient_tet(q, &pos).ok_or_else(invalid)?;
+                out.push_cell(t, &q, i);
+                out.inverted += inv as usize;
+                out.split[grid.cells.types[i] as usize] += 1;
                 continue;
             }
             match t {
@@ -352,7 +387,8 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                 }
                 _ => return Err(fail(UNSUPPORTED)),
             }
-            out.split[t as usize] += 1;
+            // Counted by the input's type (a Lagrange hexahedron, not the hexahedron it became).
+            out.split[grid.cells.types[i] as usize] += 1;
         }
         Ok(out)
     };

@@ -587,3 +587,71 @@ fn second_order_wedges_split_inverted_once_tangled_refused() -> anyhow::Result<(
     assert!((v - 0.5).abs() < 1e-15, "{v}");
     Ok(())
 }
+
+#[test]
+fn higher_order_cells_split_by_their_corners() -> anyhow::Result<()> {
+    // A unit cube as a 27-node Lagrange hexahedron (corners first, then edge, face and body
+    // nodes, here only placed at the centre: they must not matter), and a Bezier tet of 10
+    // nodes on top of it, written inverted.
+    let mut pts = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+        [0.5, 0.5, 2.0],
+    ];
+    let centre = pts.len() as i64;
+    pts.push([0.5, 0.5, 0.5]);
+    let hex: Vec<i64> = (0..8).chain(std::iter::repeat(centre).take(19)).collect();
+    let tet: Vec<i64> = [4, 6, 5, 8]
+        .into_iter()
+        .chain(std::iter::repeat(centre).take(6))
+        .collect();
+    let g = grid_of(
+        pts,
+        &[
+            (ct::LAGRANGE_HEXAHEDRON, &hex),
+            (ct::BEZIER_TETRAHEDRON, &tet),
+        ],
+    );
+    let (out, report) = tetrahedralize(&g, false)?;
+    let pts = out.points_f64();
+    let mut volume = 0.0;
+    for c in 0..out.num_cells() {
+        anyhow::ensure!(out.cells.types[c] == ct::TETRA, "cell {c} is not a tet");
+        let t = out.cells.cell(c);
+        anyhow::ensure!(
+            t.iter().all(|&v| v != centre),
+            "a higher-order node was used"
+        );
+        let v = tet_volume(
+            &pts[t[0] as usize],
+            &pts[t[1] as usize],
+            &pts[t[2] as usize],
+            &pts[t[3] as usize],
+        );
+        anyhow::ensure!(v > 0.0, "tet {c} has volume {v}");
+        volume += v;
+    }
+    // The cube and the tet above it (base area 1/2, height 1): 1 + 1/6.
+    anyhow::ensure!(
+        (volume - (1.0 + 1.0 / 6.0)).abs() < 1e-12,
+        "volume {volume}"
+    );
+    assert_eq!(report.inverted, 1);
+    assert!(report
+        .lines()
+        .iter()
+        .any(|l| l.contains("lagrange_hexahedron") && l.contains("by their corners")));
+    // Fewer nodes than corners is an error naming the cell.
+    let short = grid_of(vec![[0.0; 3]; 4], &[(ct::LAGRANGE_TETRAHEDRON, &[0, 1, 2])]);
+    anyhow::ensure!(
+        tetrahedralize(&short, false).is_err(),
+        "a 3-node tet accepted"
+    );
+    Ok(())
+}
