@@ -606,10 +606,10 @@ fn higher_order_cells_split_by_their_corners() -> anyhow::Result<()> {
     ];
     let centre = pts.len() as i64;
     pts.push([0.5, 0.5, 0.5]);
-    let hex: Vec<i64> = (0..8).chain(std::iter::repeat(centre).take(19)).collect();
+    let hex: Vec<i64> = (0..8).chain(std::iter::repeat_n(centre, 19)).collect();
     let tet: Vec<i64> = [4, 6, 5, 8]
         .into_iter()
-        .chain(std::iter::repeat(centre).take(6))
+        .chain(std::iter::repeat_n(centre, 6))
         .collect();
     let g = grid_of(
         pts,
