@@ -109,3 +109,72 @@ fn a_field_far_from_zero_renders_like_the_same_field_near_zero() {
         assert!(worst <= 2, "{what}: images differ by {worst}/255");
     }
 }
+
+/// Fields (or ranges) beyond f32's reach: `--range -1e100,1e100` drew a blank image in PT (the
+/// table started at -inf) while the f64 ray caster drew it right. Scaled by a power of two into
+/// f32's range, each render looks the same as the field in ordinary units, a scene's transfer
+/// functions scaled with it.
+#[test]
+fn fields_beyond_f32_render_like_ordinary_ones() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = tempdir();
+    let mesh = structured_grid([4, 4, 4], [0.0; 3], [1.0; 3]);
+    let mut grid = mesh.to_grid();
+    let near = grid
+        .point_data
+        .get("scalar")
+        .ok_or("no scalar")?
+        .data
+        .to_f64_vec();
+    for (name, k) in [("huge", 1e200), ("tiny", 1e-200)] {
+        let v: Vec<f64> = near.iter().map(|x| x * k).collect();
+        grid.point_data
+            .insert(DataArray::new(name, 1, ArrayData::Float64(v)));
+    }
+    grid.point_data
+        .insert(DataArray::new("near", 1, ArrayData::Float64(near)));
+    let input = dir.path().join("m.vtu");
+    tetkit::formats::write(&input, &grid, &Default::default())?;
+    let scene = |k: f64| {
+        format!(
+            "[[body]]\nshape = \"sphere\"\ncenter = [0.5, 0.5, 0.5]\nradius = 0.35\n\
+             action = \"transfer\"\n[body.transfer]\ncolormap = \"inferno\"\n\
+             opacity = [[0.0, 0.07], [{t:e}, 0.07], [{t:e}, 0.93], [{b:e}, 0.93]]\n",
+            t = 0.5 * k,
+            b = k
+        )
+    };
+    for (name, k) in [("huge", 1e200), ("tiny", 1e-200)] {
+        let (near_scene, far_scene) = (dir.path().join("n.toml"), dir.path().join("f.toml"));
+        std::fs::write(&near_scene, scene(1.0))?;
+        std::fs::write(&far_scene, scene(k))?;
+        let (ns, fs) = (
+            near_scene.to_str().ok_or("path")?,
+            far_scene.to_str().ok_or("path")?,
+        );
+        for (what, near_args, far_args) in [
+            ("pt", vec![], vec![]),
+            (
+                "raycast",
+                vec!["--method", "raycast"],
+                vec!["--method", "raycast"],
+            ),
+            ("scene", vec!["--scene", ns], vec!["--scene", fs]),
+        ] {
+            let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+            let near_args: Vec<&str> = ["--scalar", "near"].into_iter().chain(near_args).collect();
+            let far_args: Vec<&str> = ["--scalar", name].into_iter().chain(far_args).collect();
+            render(&input, &a, &near_args);
+            render(&input, &b, &far_args);
+            let (worst, lit) = compare(&a, &b);
+            assert!(lit > 500, "{name} {what}: only {lit} lit pixels");
+            assert!(worst <= 2, "{name} {what}: images differ by {worst}/255");
+        }
+    }
+    // A given range past f32's: the same image as the equivalent ordinary one.
+    let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    render(&input, &a, &["--scalar", "near", "--range=-1,1"]);
+    render(&input, &b, &["--scalar", "huge", "--range=-1e200,1e200"]);
+    let (worst, lit) = compare(&a, &b);
+    assert!(lit > 500 && worst <= 2, "range: {worst}/255, {lit} lit");
+    Ok(())
+}

@@ -271,6 +271,9 @@ pub struct Session {
     /// Subtracted from `field` and from every transfer function's scalars
     /// ([`crate::render::field::scalar_offset`]); 0 for most fields.
     pub scalar_offset: f64,
+    /// Then multiplied with the field and the transfer functions' scalars
+    /// ([`crate::render::field::scalar_scale`]); 1 for most fields.
+    pub scalar_scale: f64,
     pub read_s: f64,
     pub schedule: pt::Schedule,
     /// The tets with coincident points welded ([`TetMesh::welded_tets`]; `None` when no points
@@ -383,6 +386,13 @@ impl Session {
         } else {
             range
         };
+        let scalar_scale = crate::render::field::scalar_scale(range);
+        let range = if scalar_scale != 1.0 {
+            field.scale(scalar_scale);
+            range.map(|x| x * scalar_scale)
+        } else {
+            range
+        };
         let tf = TransferFunction::build(&colors, opacity.as_ref(), range, unit, look.tf_nodes)?;
         let base = BaseLook {
             colors,
@@ -400,6 +410,7 @@ impl Session {
             table,
             lmax,
             scalar_offset,
+            scalar_scale,
             read_s: t0.elapsed().as_secs_f64(),
             schedule: look.pt_schedule,
             welded: std::sync::OnceLock::new(),
@@ -509,7 +520,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         scene.as_ref().and_then(|s| s.transfer.as_ref()),
     )?;
     if let Some(s) = scene.as_mut() {
-        s.shift_scalars(session.scalar_offset);
+        s.shift_scalars(session.scalar_offset, session.scalar_scale);
     }
     progress.step("read");
     let cam0 = match &scene {

@@ -174,6 +174,13 @@ impl Field {
         }
     }
 
+    /// Multiplies every value by `scale` (a power of two: exact; see [`scalar_scale`]).
+    pub fn scale(&mut self, scale: f64) {
+        match self {
+            Field::Point(v) | Field::Cell(v) => v.iter_mut().for_each(|x| *x *= scale),
+        }
+    }
+
     /// Leaves out the tets that read a NaN or infinite value (any vertex's, or the cell's own):
     /// the mesh and a cell field keep the rest in order, with their cell data; point values no
     /// kept tet reads become 0. Returns how many tets were left out. A solver's result with NaN
@@ -232,10 +239,43 @@ pub fn scalar_offset(range: [f64; 2]) -> f64 {
     }
 }
 
+/// What a render multiplies the (shifted) field by: 1 for ordinary ranges, else the power of
+/// two bringing the range's larger end into [1, 2). Projected tetrahedra keep scalars in f32,
+/// which ends at 3.4e38 and loses precision below 1.2e-38: a `--range -1e100,1e100` drew a
+/// blank image (the table's start was -inf) while the f64 ray caster drew it right. A power of
+/// two scales exactly, and the transfer functions scale with the field, so colours keep.
+pub fn scalar_scale(range: [f64; 2]) -> f64 {
+    let m = range[0].abs().max(range[1].abs());
+    let (lo, hi) = (2f64.powi(-100), 2f64.powi(100));
+    if !m.is_finite() || m == 0.0 || (lo..=hi).contains(&m) {
+        return 1.0;
+    }
+    // m lies in [2^e, 2^(e+1)); the exponent field of an f64 gives e without rounding.
+    let e = ((m.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    2f64.powi(-e.clamp(-1000, 1023))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use formats::ArrayData;
+
+    #[test]
+    fn extreme_ranges_scale_by_a_power_of_two() {
+        assert_eq!(scalar_scale([0.0, 1.0]), 1.0);
+        assert_eq!(scalar_scale([-1e20, 1e20]), 1.0);
+        for r in [
+            [-1e100, 1e100],
+            [0.0, 1e39],
+            [-1.7e308, 1.7e308],
+            [1e-45, 3e-45],
+        ] {
+            let s = scalar_scale(r);
+            let m = r[0].abs().max(r[1].abs()) * s;
+            assert!((1.0..2.0).contains(&m), "{r:?}: {s} gives {m}");
+            assert_eq!(s.log2().fract(), 0.0, "a power of two");
+        }
+    }
 
     fn one_tet() -> TetMesh {
         TetMesh {

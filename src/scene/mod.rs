@@ -107,27 +107,27 @@ pub struct TransferSpec {
 }
 
 impl TransferSpec {
-    /// Subtracts `offset` from its scalars (range and opacity points), as the render does to the
-    /// field (see `render::field::scalar_offset`).
-    pub fn shift_scalars(&mut self, offset: f64) {
+    /// Maps its scalars (range and opacity points) to `(s - offset) * scale`, as the render
+    /// does to the field (see `render::field::scalar_offset` and `scalar_scale`).
+    pub fn shift_scalars(&mut self, offset: f64, scale: f64) {
         if let Some(r) = self.range.as_mut() {
-            *r = r.map(|x| x - offset);
+            *r = r.map(|x| (x - offset) * scale);
         }
         for p in &mut self.opacity {
-            p[0] -= offset;
+            p[0] = (p[0] - offset) * scale;
         }
     }
 }
 
 impl Scene {
-    /// Shifts the scalars of every transfer function the scene declares by `offset`.
-    pub fn shift_scalars(&mut self, offset: f64) {
+    /// Maps the scalars of every transfer function the scene declares to `(s - offset) * scale`.
+    pub fn shift_scalars(&mut self, offset: f64, scale: f64) {
         if let Some(t) = self.transfer.as_mut() {
-            t.shift_scalars(offset);
+            t.shift_scalars(offset, scale);
         }
         for b in &mut self.bodies {
             if let Action::Transfer(t) = &mut b.action {
-                t.shift_scalars(offset);
+                t.shift_scalars(offset, scale);
             }
         }
     }
