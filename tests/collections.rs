@@ -202,6 +202,11 @@ fn a_pvd_opens_at_its_first_step_and_any_step_can_be_picked() {
         "no time step 3",
         "0 to 2",
     ]);
+    // A step that is not a number is the step's fault, not the extension's.
+    for bad in ["-1", "abc", "1.5", ""] {
+        tetkit(["info", &format!("{}@{bad}", pvd.display())])
+            .assert_failure(&[&format!("bad time step '{bad}'"), "'last'"]);
+    }
 }
 
 #[test]

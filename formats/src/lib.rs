@@ -111,6 +111,22 @@ pub enum Format {
 }
 
 /// The extensions [`Format::from_path`] knows, for messages.
+/// `(FILE, STEP)` when `path` is `FILE@STEP` for a format with time steps (.pvd, Exodus,
+/// VTKHDF) whose STEP the selectors did not take (`@-1`, `@abc`, `@1.5`): what went wrong is the
+/// step, not the extension.
+fn bad_step(path: &Path) -> Option<(String, String)> {
+    let s = path.to_str()?;
+    let (file, step) = s.rsplit_once('@')?;
+    let ext = Path::new(file)
+        .extension()?
+        .to_string_lossy()
+        .to_ascii_lowercase();
+    let stepped = ext == "pvd"
+        || exodus::EXTENSIONS.contains(&ext.as_str())
+        || vtkhdf::EXTENSIONS.contains(&ext.as_str());
+    stepped.then(|| (file.to_string(), step.to_string()))
+}
+
 /// The extensions [`write`] takes.
 const WRITTEN: &str = ".vtu, .pvtu, .vtk, .node/.ele (TetGen) or .mesh (Medit)";
 
@@ -143,6 +159,13 @@ impl Format {
             "msh" => Ok(Format::Msh),
             e if exodus::EXTENSIONS.contains(&e) => Ok(Format::Exodus),
             e if vtkhdf::EXTENSIONS.contains(&e) => Ok(Format::VtkHdf),
+            _ if bad_step(path).is_some() => {
+                let (file, step) = bad_step(path).unwrap_or_default();
+                Err(FormatError::whole(format!(
+                    "bad time step '{step}' after {file}: expected a step number (0, 1, ...) or 'last'"
+                ))
+                .with_file(path))
+            }
             "" => Err(
                 FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
             ),
