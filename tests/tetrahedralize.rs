@@ -347,6 +347,25 @@ fn every_fixture_tetrahedralizes() {
             );
             continue;
         }
+        // Convex point sets (fixtures/highorder/) are read and written but refused here by
+        // name: splitting one needs its hull.
+        if let Some(i) = g
+            .cells
+            .types
+            .iter()
+            .position(|&t| t == formats::cell_type::CONVEX_POINT_SET)
+        {
+            let e = tetrahedralize(&g, true)
+                .map(|_| ())
+                .map_err(|e| e.to_string());
+            let want = format!("cell {i} (convex_point_set, type 41)");
+            assert!(
+                matches!(&e, Err(m) if m.contains(&want)),
+                "{}: {e:?}",
+                f.display()
+            );
+            continue;
+        }
         let (t, _) = tetrahedralize(&g, true).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         check_tets(&g, &t, false);
         check_data_carried(&g, &t);

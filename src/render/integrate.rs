@@ -1174,18 +1174,23 @@ mod tests {
         }
     }
 
+    /// A xorshift stream of floats in [0, 1) from `seed` (not 0).
+    fn xorshift(seed: u64) -> impl FnMut() -> f32 {
+        let mut r = seed;
+        move || {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            (r >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
     #[test]
     fn a_range_drawn_as_nothing_gives_exact_zeros() {
         // Opacity zero up to 40 % of [0, 2] (to 0.78125 after resampling to 65 nodes), a
         // ramp after it.
         let gap = build("viridis", "0:0,0.4:0,1:1", [0.0, 2.0], 0.5, 65);
-        let mut r = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = move || {
-            r ^= r << 13;
-            r ^= r >> 7;
-            r ^= r << 17;
-            (r >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rnd = xorshift(0x9e37_79b9_7f4a_7c15);
         for (ns, nl) in [(128, 32), (33, 9), (2, 2)] {
             let t = PreintTable::build(&gap, ns, nl, 1.5);
             let lmax = t.lmax as f32;
@@ -1236,13 +1241,7 @@ mod tests {
         // As above for the per-fragment modes: zero extinction up to node 25 of 65 (0.78125).
         let gap = build("viridis", "0:0,0.4:0,1:1", [0.0, 2.0], 0.5, 65);
         let f = FastTf::new(&gap);
-        let mut r = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = move || {
-            r ^= r << 13;
-            r ^= r >> 7;
-            r ^= r << 17;
-            (r >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rnd = xorshift(0x2545_f491_4f6c_dd1d);
         let mut clear = 0;
         for case in 0..20_000 {
             let lo = rnd() * 2.2 - 0.1;

@@ -37,8 +37,17 @@ pub fn read(bytes: &[u8]) -> Result<Grid> {
 fn read_labelled(bytes: &[u8], label: &str) -> Result<Grid> {
     let mut cur = Cursor::new(bytes);
     cur.label = label.to_string();
-    header::parse(&mut cur)?;
-    read_body(cur)
+    let head = header::parse(&mut cur)?;
+    read_body(cur).map(|g| vtk_hex_order(g, &head))
+}
+
+/// Files before 5.1 hold higher-order hexahedra in VTK's old edge order: converted as VTK's
+/// reader converts them (see [`Grid::swap_hex_edges_10_11`]).
+fn vtk_hex_order(mut grid: Grid, head: &header::Header) -> Grid {
+    if (head.major, head.minor) < (5, 1) {
+        grid.swap_hex_edges_10_11();
+    }
+    grid
 }
 
 /// Reads a legacy file from disk. BINARY files are streamed, so each big block is copied once,
@@ -57,7 +66,9 @@ pub fn read_path(path: &Path) -> Result<Grid> {
         let bytes = std::fs::read(path).map_err(io)?;
         return read_labelled(&bytes, &cur.label).map_err(|e| e.with_file(path));
     }
-    read_body(cur).map_err(|e| e.with_file(path))
+    read_body(cur)
+        .map(|g| vtk_hex_order(g, &head))
+        .map_err(|e| e.with_file(path))
 }
 
 impl RawCells {

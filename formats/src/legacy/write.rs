@@ -25,6 +25,16 @@ fn io_err(e: io::Error) -> FormatError {
 pub fn write(w: &mut dyn Write, grid: &Grid, opts: &WriteOptions) -> Result<()> {
     let binary = opts.encoding != Encoding::Ascii;
     let version = opts.legacy_version;
+    // VTK reads a 4.2 file's higher-order hexahedra in its old edge order: written in it.
+    let old_order;
+    let grid = if version == LegacyVersion::V42 && grid.has_higher_order_hexahedra() {
+        let mut g = grid.clone();
+        g.swap_hex_edges_10_11();
+        old_order = g;
+        &old_order
+    } else {
+        grid
+    };
     check_names(grid)?;
     let cells = cell_streams(grid)?;
     if version == LegacyVersion::V42 {

@@ -126,6 +126,11 @@ fn build(doc: &Document, blob: &dyn Blob) -> Result<Grid> {
         .collect::<Result<Vec<_>>>()?;
     let mut grid = merge(pieces)?;
     grid.field_data = field_data;
+    // Files before 2.2 hold higher-order hexahedra in VTK's old edge order: converted as
+    // VTK's reader converts them.
+    if doc.version < (2, 2) {
+        grid.swap_hex_edges_10_11();
+    }
     if let (Some(kind), true) = (doc.structured, doc.pieces.len() > 1) {
         let extents: Vec<[i64; 6]> = doc.pieces.iter().filter_map(|p| p.extent).collect();
         let (lattice, image) = match &kind {

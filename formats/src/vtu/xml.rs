@@ -122,6 +122,8 @@ pub(crate) struct Document {
     pub field_data: Vec<ArrayXml>,
     pub pieces: Vec<PieceXml>,
     pub appended: Option<AppendedXml>,
+    /// The root's `version` as (major, minor); (0, 1) when absent.
+    pub version: (u32, u32),
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -354,6 +356,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
         field_data: Vec::new(),
         pieces: Vec::new(),
         appended: None,
+        version: (0, 1),
     };
     let mut seen_root = false;
     // The array whose text is being collected, and the context it belongs to.
@@ -446,6 +449,11 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                     }
                 }
                 doc.layout = layout_from(&a, pos)?;
+                if let Some((ma, mi)) = get(&a, "version").and_then(|v| v.trim().split_once('.')) {
+                    if let (Ok(ma), Ok(mi)) = (ma.parse(), mi.parse()) {
+                        doc.version = (ma, mi);
+                    }
+                }
                 Ctx::File
             }
             (None, _) => {
