@@ -1185,6 +1185,17 @@ mod tests {
         }
     }
 
+    /// Fragment ends a tet with scalar range `[lo, hi]` can have (clamped to it, as the set-up
+    /// does): the range both ways for `k` 0 and 1, random points in it after.
+    fn ends_in(lo: f32, hi: f32, k: usize, rnd: &mut impl FnMut() -> f32) -> (f32, f32) {
+        let mut pick = || (lo + (hi - lo) * rnd()).clamp(lo, hi);
+        match k {
+            0 => (lo, hi),
+            1 => (hi, lo),
+            _ => (pick(), pick()),
+        }
+    }
+
     #[test]
     fn a_range_drawn_as_nothing_gives_exact_zeros() {
         // Opacity zero up to 40 % of [0, 2] (to 0.78125 after resampling to 65 nodes), a
@@ -1206,12 +1217,7 @@ mod tests {
                 // Any fragment a tet with this range can have: ends in the range (clamped to
                 // it, as the set-up does), any length, past the table's axis too.
                 for k in 0..40 {
-                    let pick = |u: f32| (lo + (hi - lo) * u).clamp(lo, hi);
-                    let (sf, sb) = match k {
-                        0 => (lo, hi),
-                        1 => (hi, lo),
-                        _ => (pick(rnd()), pick(rnd())),
-                    };
+                    let (sf, sb) = ends_in(lo, hi, k, &mut rnd);
                     let l = rnd() * 3.0 * lmax;
                     assert_eq!(
                         t.segment(sf, sb, l).map(f32::to_bits),
@@ -1254,12 +1260,7 @@ mod tests {
             clear += 1;
             assert!(hi < 0.78125, "[{lo}, {hi}] drawn as nothing");
             for k in 0..40 {
-                let pick = |u: f32| (lo + (hi - lo) * u).clamp(lo, hi);
-                let (sf, sb) = match k {
-                    0 => (lo, hi),
-                    1 => (hi, lo),
-                    _ => (pick(rnd()), pick(rnd())),
-                };
+                let (sf, sb) = ends_in(lo, hi, k, &mut rnd);
                 let l = rnd() * 10.0;
                 for v in [f.average(sf, sb, l), f.linear(sf, sb, l)] {
                     assert_eq!(
