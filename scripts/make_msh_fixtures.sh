@@ -18,11 +18,12 @@
 #                         a constant) and $ElementNodeData (Plugin(MathEval), list based), plus
 #                         hand-made sections this script appends: a second time step of the node
 #                         view and an $ElementData vector view
-#   twobodies_41.msh, twobodies_part_41.msh, twobodies_part_41_bin.msh
+#   twobodies_41.msh, twobodies_part_41.msh, twobodies_part_41_bin.msh, twobodies_part_22.msh
 #                         a cube and a ball (physical volumes "box" 1 and "ball" 2, the cube's
 #                         top face physical surface "boxtop" 3), unpartitioned and split by
 #                         `-part 2` (MSH 4.1 ASCII and binary: $PartitionedEntities, whose
-#                         interface surface gets its own triangles)
+#                         interface surface gets its own triangles; MSH 2.2 ASCII: the
+#                         partitions in each element's tags)
 set -euo pipefail
 out="$(cd "$(dirname "$0")/.." && pwd)/fixtures/msh"
 mkdir -p "$out/gmsh_vtk"
@@ -130,9 +131,10 @@ vtk tet_o2.vtk tet_o2
 run twobodies twobodies_41.msh -format msh41
 run twobodies twobodies_part_41.msh -format msh41 -part 2
 run twobodies twobodies_part_41_bin.msh -format msh41 -bin -part 2
+run twobodies twobodies_part_22.msh -format msh22 -part 2
 for f in block_hole_41 block_hole_41_bin block_hole_22 block_hole_22_bin mixed_41 params_41 \
   params_41_bin mixed_o2_41 mixed_o2i_22_bin tet_o2_41_bin twobodies_41 twobodies_part_41 \
-  twobodies_part_41_bin; do
+  twobodies_part_41_bin twobodies_part_22; do
   cp "$work/$f.msh" "$out/$f.msh"
 done
 

@@ -1,4 +1,4 @@
-//! MSH 2.2 `$Nodes` and `$Elements` (ASCII or binary): tags on every element, no entities.
+//! MSH 2.2 `$Nodes` and `$Elements` (ASCII or binary): tags on every element (physical, elementary, then partitions), no entities.
 
 use super::build::Builder;
 use super::cursor::Cursor;
@@ -106,8 +106,24 @@ pub(crate) fn elements(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()> {
             let (p, g) = tags(&tag_list);
             // c.int gives values that fit 32 bits.
             b.add_element(c, at, ty, tag, &node_tags[..ty.nodes], p as i32, g as i32)?;
+            // A partitioned file's tags go on with the partition count and the partitions,
+            // the owner first (ghosts negative after it).
+            let parts = tag_list.get(2).copied().unwrap_or(0);
+            b.partition.push(if parts >= 1 {
+                if parts > 1 {
+                    b.shared_partition_cells += 1;
+                }
+                tag_list.get(3).map_or(0, |&q| q.unsigned_abs() as i32)
+            } else {
+                0
+            });
         }
         read += in_group;
+    }
+    // Unpartitioned files (no element with a partition) get no partition array.
+    if b.partition.iter().all(|&q| q == 0) {
+        b.partition.clear();
+        b.shared_partition_cells = 0;
     }
     b.elements_read = true;
     c.expect_end("Elements")

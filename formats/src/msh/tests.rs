@@ -878,6 +878,19 @@ fn gmsh_partitioned_files_keep_the_physical_groups_of_the_unpartitioned_mesh() -
         assert!(parts.contains(&p), "partition {p}");
     }
     assert!(parts.iter().all(|p| [1, 2].contains(p)));
+    // MSH 2.2 keeps the partitions in the element tags: the same groups, the same cells.
+    let v22 = read_path(&fixture("twobodies_part_22.msh"))?;
+    let got22 = groups_by_centroid(&v22);
+    for (k, p) in &want {
+        assert_eq!(got22.get(k), Some(p), "2.2: {k:?}");
+    }
+    let parts22 = int32s(&v22.cell_data.arrays, names::PARTITION).unwrap_or(&[]);
+    assert_eq!(parts22.len(), v22.num_cells());
+    assert!(parts22.contains(&1) && parts22.contains(&2));
+    assert!(parts22.iter().all(|p| [1, 2].contains(p)));
+    // An unpartitioned 2.2 file has no partition array.
+    let plain = read_path(&fixture("block_hole_22.msh"))?;
+    assert!(plain.cell_data.get(names::PARTITION).is_none());
     Ok(())
 }
 
