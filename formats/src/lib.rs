@@ -159,19 +159,13 @@ impl Format {
             "msh" => Ok(Format::Msh),
             e if exodus::EXTENSIONS.contains(&e) => Ok(Format::Exodus),
             e if vtkhdf::EXTENSIONS.contains(&e) => Ok(Format::VtkHdf),
-            _ if bad_step(path).is_some() => {
-                let (file, step) = bad_step(path).unwrap_or_default();
-                Err(FormatError::whole(format!(
+            other => Err(FormatError::whole(match bad_step(path) {
+                Some((file, step)) => format!(
                     "bad time step '{step}' after {file}: expected a step number (0, 1, ...) or 'last'"
-                ))
-                .with_file(path))
-            }
-            "" => Err(
-                FormatError::whole(format!("no file extension; expected {KNOWN}")).with_file(path),
-            ),
-            other => Err(FormatError::whole(format!(
-                "unknown file extension '.{other}'; expected {KNOWN}"
-            ))
+                ),
+                None if other.is_empty() => format!("no file extension; expected {KNOWN}"),
+                None => format!("unknown file extension '.{other}'; expected {KNOWN}"),
+            })
             .with_file(path)),
         }
     }

@@ -377,19 +377,14 @@ impl Session {
                 None => prepare::default_unit_distance(&mesh),
             },
         };
-        // Far from zero compared with its range, the field is drawn shifted towards zero (PT
-        // keeps scalars in f32); the scene's transfer functions move with it (`run`).
+        // Far from zero compared with its range, or beyond f32's reach, the field is drawn
+        // shifted towards zero and scaled by a power of two (PT keeps scalars in f32); the
+        // scene's transfer functions move with it (`run`).
         let scalar_offset = crate::render::field::scalar_offset(range);
-        let range = if scalar_offset != 0.0 {
-            field.shift(scalar_offset);
-            range.map(|x| x - scalar_offset)
-        } else {
-            range
-        };
-        let scalar_scale = crate::render::field::scalar_scale(range);
-        let range = if scalar_scale != 1.0 {
-            field.scale(scalar_scale);
-            range.map(|x| x * scalar_scale)
+        let scalar_scale = crate::render::field::scalar_scale(range.map(|x| x - scalar_offset));
+        let range = if scalar_offset != 0.0 || scalar_scale != 1.0 {
+            field.rescale(scalar_offset, scalar_scale);
+            range.map(|x| (x - scalar_offset) * scalar_scale)
         } else {
             range
         };

@@ -49,12 +49,17 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// The image of one sort and integration mode.
+fn image_name(sort: SortChoice, mode: Integration) -> String {
+    format!("pt_{}_{}.png", sort.name(), mode.name())
+}
+
 /// Every file a run writes into its folder.
 fn outputs() -> Vec<String> {
     let mut v = vec!["reference.png".to_string()];
     for sort in SortChoice::ALL {
         for mode in Integration::ALL {
-            v.push(format!("pt_{}_{}.png", sort.name(), mode.name()));
+            v.push(image_name(sort, mode));
         }
     }
     v.extend(["tradeoff.csv", "tradeoff.json", "tradeoff.png"].map(String::from));
@@ -146,7 +151,7 @@ fn measure(
                 img = Some(im);
             }
             let img = img.unwrap_or_else(|| reference.clone());
-            let name = format!("pt_{}_{}.png", sort.name(), mode.name());
+            let name = image_name(sort, mode);
             img.write_png(&args.output.join(&name), look.background)?;
             let err = img.error_against(&reference, look.background);
             rows.push(Row {

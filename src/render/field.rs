@@ -167,17 +167,13 @@ impl Field {
         r
     }
 
-    /// Subtracts `offset` from every value (see [`scalar_offset`]).
-    pub fn shift(&mut self, offset: f64) {
+    /// Maps every value to `(v - offset) * scale` (see [`scalar_offset`] and [`scalar_scale`]:
+    /// a power of two, so the scaling is exact).
+    pub fn rescale(&mut self, offset: f64, scale: f64) {
         match self {
-            Field::Point(v) | Field::Cell(v) => v.iter_mut().for_each(|x| *x -= offset),
-        }
-    }
-
-    /// Multiplies every value by `scale` (a power of two: exact; see [`scalar_scale`]).
-    pub fn scale(&mut self, scale: f64) {
-        match self {
-            Field::Point(v) | Field::Cell(v) => v.iter_mut().for_each(|x| *x *= scale),
+            Field::Point(v) | Field::Cell(v) => {
+                v.iter_mut().for_each(|x| *x = (*x - offset) * scale)
+            }
         }
     }
 

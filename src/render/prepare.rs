@@ -92,18 +92,33 @@ const STEP_DEPTH: f64 = 0.1;
 /// 90th percentile 0.13: RMSE against the exact ray caster 3.5e-3 before, 4e-5 split). A
 /// near-uniform mesh (the shortened axis over half the longest edge) is never split.
 pub fn table_length(mesh: &TetMesh, tf: &TransferFunction, steps: usize) -> f64 {
+    axis_length(&edge_spread(mesh), densest(tf), steps)
+}
+
+/// The longest and the 90th-percentile longest tet edge (finite ones), or `None` without any.
+fn edge_spread(mesh: &TetMesh) -> Option<(f64, f64)> {
     let mut edges: Vec<f64> = mesh
         .tets
         .par_iter()
         .map(|t| tet_longest_edge(mesh, t))
         .filter(|m| m.is_finite())
         .collect();
-    let Some(&max) = edges.iter().max_by(|a, b| a.total_cmp(b)) else {
-        return 0.0;
-    };
+    let &max = edges.iter().max_by(|a, b| a.total_cmp(b))?;
     let k = (edges.len() - 1) * 90 / 100;
     let (_, &mut p90, _) = edges.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
-    let tau = tf.tau.iter().copied().fold(0.0, f64::max);
+    Some((max, p90))
+}
+
+/// The transfer function's largest extinction.
+fn densest(tf: &TransferFunction) -> f64 {
+    tf.tau.iter().copied().fold(0.0, f64::max)
+}
+
+/// [`table_length`] from the mesh's [`edge_spread`] and the densest extinction `tau`.
+fn axis_length(spread: &Option<(f64, f64)>, tau: f64, steps: usize) -> f64 {
+    let Some((max, p90)) = *spread else {
+        return 0.0;
+    };
     let thin = STEP_DEPTH * steps.saturating_sub(1).max(1) as f64 / tau;
     let cap = if thin.is_nan() {
         max
@@ -133,10 +148,13 @@ pub fn table_size(
     tf: &TransferFunction,
     asked: Option<TableSize>,
 ) -> (TableSize, f64) {
+    // One pass over the tets' edges serves both the step count and the axis.
+    let spread = edge_spread(mesh);
+    let tau = densest(tf);
     let size = asked.unwrap_or_else(|| {
         let d = TableSize::default();
-        let tau = tf.tau.iter().copied().fold(0.0, f64::max);
-        let need = (tau * longest_edge(mesh) / STEP_DEPTH).ceil() + 1.0;
+        let longest = spread.map_or(0.0, |s| s.0);
+        let need = (tau * longest / STEP_DEPTH).ceil() + 1.0;
         let length = if need.is_finite() && need > d.length as f64 {
             (need as usize).min(MAX_DEFAULT_STEPS)
         } else {
@@ -144,7 +162,7 @@ pub fn table_size(
         };
         TableSize { length, ..d }
     });
-    (size, table_length(mesh, tf, size.length))
+    (size, axis_length(&spread, tau, size.length))
 }
 
 /// Builds the shader for an integration mode (the 3-D table for `preintegrated`).

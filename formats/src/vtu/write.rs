@@ -298,11 +298,14 @@ pub fn write(w: &mut dyn Write, grid: &Grid, opts: &WriteOptions) -> Result<()> 
     let mut s = String::with_capacity(4096);
     // 2.2 where the file holds higher-order hexahedra, so that VTK keeps their node order
     // (before 2.2 it converts them from its old edge order); 0.1 otherwise, as before.
-    s.push_str(if grid.has_higher_order_hexahedra() {
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"2.2\""
+    let version = if grid.has_higher_order_hexahedra() {
+        "2.2"
     } else {
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\""
-    });
+        "0.1"
+    };
+    s.push_str(&format!(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"{version}\""
+    ));
     let _ = write!(
         s,
         " byte_order=\"{}\" header_type=\"UInt64\"",
