@@ -59,7 +59,12 @@ pub struct TetrahedralizeReport {
 impl TetrahedralizeReport {
     /// What splitting `n` cells of type `t` did, for stderr.
     pub fn split_line(t: u8, n: usize) -> String {
-        if ct::is_higher_order(t) {
+        if t == ct::LAGRANGE_TETRAHEDRON {
+            format!(
+                "split {n} {} cells into tets (second-order ones over their 10 nodes, as a quadratic tetra; higher orders by their corners, their other nodes and curvature not used, the nodes staying in the mesh)",
+                ct::name(t)
+            )
+        } else if ct::is_higher_order(t) {
             format!(
                 "split {n} {} cells into tets by their corners (their higher-order nodes and curvature are not used; the nodes stay in the mesh)",
                 ct::name(t)
@@ -302,6 +307,17 @@ pub fn tetrahedralize(grid: &Grid, keep_lower: bool) -> Result<(Grid, Tetrahedra
                 None => (t, ids),
             };
             if let (Some(_), ct::TETRA) = (lin, t) {
+                let nodes = grid.cells.cell(i);
+                if grid.cells.types[i] == ct::LAGRANGE_TETRAHEDRON && nodes.len() == 10 {
+                    // A second-order Lagrange tet lists its nodes as the quadratic tetra does
+                    // (corners, then mid-edges 01 12 20 03 13 23), and interpolates at all of
+                    // them: split over them as that cell is.
+                    let s = cells::split_quadratic_tet(nodes, &pos).map_err(|_| invalid())?;
+                    out.inverted += s.inverted as usize;
+                    out.push_split(s, i, Vec::new);
+                    out.split[ct::LAGRANGE_TETRAHEDRON as usize] += 1;
+                    continue;
+                }
                 let q = [ids[0], ids[1], ids[2], ids[3]];
                 let (q, inv) = cells::orient_tet(q, &pos).ok_or_else(invalid)?;
                 out.push_cell(t, &q, i);

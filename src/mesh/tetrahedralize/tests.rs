@@ -655,3 +655,47 @@ fn higher_order_cells_split_by_their_corners() -> anyhow::Result<()> {
     );
     Ok(())
 }
+
+#[test]
+fn second_order_lagrange_tets_split_over_their_nodes_as_quadratic_tetra() -> anyhow::Result<()> {
+    // A tet with its mid-edge nodes pushed off the straight edges (a curved cell), and a
+    // third-order Lagrange tet (20 nodes) beside it, which still goes by its corners.
+    let mut pts = vec![
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 2.0, 0.0],
+        [0.0, 0.0, 2.0],
+    ];
+    for (a, b) in [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)] {
+        let (p, q): ([f64; 3], [f64; 3]) = (pts[a], pts[b]);
+        pts.push([0, 1, 2].map(|k| 0.5 * (p[k] + q[k]) + 0.05 * (k as f64 + 1.0)));
+    }
+    let nodes: Vec<i64> = (0..10).collect();
+    let lag = grid_of(pts.clone(), &[(ct::LAGRANGE_TETRAHEDRON, &nodes)]);
+    let quad = grid_of(pts.clone(), &[(ct::QUADRATIC_TETRA, &nodes)]);
+    let (a, report) = tetrahedralize(&lag, false)?;
+    let (b, _) = tetrahedralize(&quad, false)?;
+    assert_eq!(a.num_cells(), 8);
+    assert_eq!(a.cells.types, b.cells.types);
+    for c in 0..8 {
+        assert_eq!(a.cells.cell(c), b.cells.cell(c), "tet {c}");
+    }
+    // Every node is used, so the curved edges shape the pieces.
+    let mut used: Vec<i64> = (0..8).flat_map(|c| a.cells.cell(c).to_vec()).collect();
+    used.sort();
+    used.dedup();
+    assert_eq!(used, nodes);
+    assert!(report
+        .lines()
+        .iter()
+        .any(|l| l.contains("lagrange_tetrahedron") && l.contains("10 nodes")));
+    // Order 3: 20 nodes, corners only.
+    let centre = pts.len() as i64;
+    pts.push([0.4, 0.4, 0.4]);
+    let third: Vec<i64> = (0..4).chain(std::iter::repeat_n(centre, 16)).collect();
+    let g = grid_of(pts, &[(ct::LAGRANGE_TETRAHEDRON, &third)]);
+    let (c, _) = tetrahedralize(&g, false)?;
+    assert_eq!(c.num_cells(), 1);
+    assert_eq!(c.cells.cell(0).len(), 4);
+    Ok(())
+}
