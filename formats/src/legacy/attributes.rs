@@ -57,13 +57,24 @@ pub(crate) fn read_metadata(
         Some((_, t)) if is_kw(&t, "METADATA") => {}
         _ => return Ok(None),
     }
-    cur.token();
+    let here = cur.pos;
+    let begin = cur.token().map_or(here, |(p, _)| p);
     cur.line();
     let mut names = Vec::new();
+    let mut any = false;
     loop {
         if cur.remaining() == 0 {
+            if !any {
+                // VTK ends every block with an empty line: a METADATA keyword and then nothing
+                // is a file cut after it.
+                return Err(cur.err(
+                    cur.pos,
+                    format!("unexpected end of file after the METADATA keyword at byte {begin} (truncated file)"),
+                ));
+            }
             break;
         }
+        any = true;
         let at = cur.pos;
         let line = cur.line().to_vec();
         let word = line
@@ -84,9 +95,16 @@ pub(crate) fn read_metadata(
                 names.push(cur.name(at, &line, true, &format!("component name {k}")));
             }
         } else if is_kw(word, "INFORMATION") {
-            // Keys run to the empty line that also ends the METADATA block.
-            while cur.remaining() > 0 && !cur.line().iter().all(u8::is_ascii_whitespace) {}
+            skip_information(cur, at, &line)?;
             break;
+        } else if cur.remaining() == 0 && !cur.after_newline() {
+            return Err(cur.err(
+                at,
+                format!(
+                    "unexpected end of file in '{}' in a METADATA block (truncated file)",
+                    show(&line)
+                ),
+            ));
         } else {
             return Err(cur.err(
                 at,
@@ -98,6 +116,82 @@ pub(crate) fn read_metadata(
         }
     }
     Ok((names.iter().any(|n| !n.is_empty())).then_some(names))
+}
+
+/// Keywords that start a section or an array: met inside an INFORMATION block, they mean the
+/// block lacked its closing empty line (a miscounted or hand-written one), and reading on there
+/// keeps the array VTK would skip.
+const SECTION_KEYWORDS: [&str; 15] = [
+    "SCALARS",
+    "COLOR_SCALARS",
+    "LOOKUP_TABLE",
+    "VECTORS",
+    "NORMALS",
+    "TEXTURE_COORDINATES",
+    "TENSORS",
+    "TENSORS6",
+    "FIELD",
+    "GLOBAL_IDS",
+    "PEDIGREE_IDS",
+    "EDGE_FLAGS",
+    "POINT_DATA",
+    "CELL_DATA",
+    "METADATA",
+];
+
+/// Skips the keys of `INFORMATION n` (the line `header`, at byte `at`): each a `NAME ...
+/// LOCATION ...` line and its `DATA` (a string vector's strings on lines of their own), to the
+/// empty line that ends the METADATA block. The file ending before `n` keys and their data is a
+/// cut file, an error; a section keyword before the empty line ends the block there, with a
+/// warning.
+fn skip_information(cur: &mut Cursor<'_>, at: usize, header: &[u8]) -> Result<(), FormatError> {
+    let declared = header
+        .split(|b| b.is_ascii_whitespace())
+        .filter(|w| !w.is_empty())
+        .nth(1)
+        .and_then(|w| std::str::from_utf8(w).ok()?.parse::<usize>().ok());
+    let (mut names, mut data) = (0usize, 0usize);
+    // Whether the last line read ended in a newline (VTK ends every line, and the block with an
+    // empty one): one that did not is a file cut inside it.
+    let mut whole = true;
+    loop {
+        if cur.remaining() == 0 {
+            let want = declared.unwrap_or(names).max(names);
+            if names < want || data < names || !whole {
+                return Err(cur.err(
+                    cur.pos,
+                    format!(
+                        "unexpected end of file in the METADATA INFORMATION block begun at byte {at}: {names} of {want} keys named, {data} with their DATA{} (truncated file)",
+                        if whole { "" } else { ", the last line cut" }
+                    ),
+                ));
+            }
+            return Ok(());
+        }
+        let start = cur.pos;
+        let line = cur.line().to_vec();
+        whole = cur.after_newline();
+        let Some(word) = line
+            .split(|b| b.is_ascii_whitespace())
+            .find(|w| !w.is_empty())
+        else {
+            return Ok(());
+        };
+        if is_kw(word, "NAME") {
+            names += 1;
+        } else if is_kw(word, "DATA") {
+            data += 1;
+        } else if SECTION_KEYWORDS.iter().any(|k| is_kw(word, k)) {
+            cur.pos = start;
+            crate::warn(&format!(
+                "{}: byte {start}: the METADATA INFORMATION block begun at byte {at} ({} keys declared, {names} found) has no empty line before '{}'; read on from there",
+                cur.label,
+                declared.map_or("no count of".to_string(), |n| n.to_string()),
+                show(&line)
+            ));
+            return Ok(());
+        }
+    }
 }
 
 /// A FIELD block: `FIELD name count`, then per array `name components tuples type` and its

@@ -244,6 +244,12 @@ impl<'a> Cursor<'a> {
         }
     }
 
+    /// Whether the byte just consumed is a newline: after [`Cursor::line`] at the end of the
+    /// input, false when the last line had none (a file cut inside it, often).
+    pub fn after_newline(&self) -> bool {
+        self.pos > self.base && self.win.get(self.pos - self.base - 1) == Some(&b'\n')
+    }
+
     /// The rest of the current line (without `\r\n`), consuming the newline.
     pub fn line(&mut self) -> &[u8] {
         let start = self.pos;

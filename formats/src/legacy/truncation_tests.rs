@@ -126,3 +126,46 @@ fn every_truncation_of_a_binary_file_is_named_a_truncation() {
         }
     }
 }
+
+/// Files cut anywhere inside a METADATA INFORMATION block (VTK writes one after most arrays)
+/// are cut files: they used to read as whole ones, with the points, cells or arrays after the
+/// cut silently missing (VTK's own 4.2 file cut inside `NAME L2_NORM_RANGE` read as 0 points
+/// and 0 cells). Every cut from the `INFORMATION` line to the block's closing empty line is an
+/// error naming the block; a cut after that empty line is not this error.
+#[test]
+fn a_file_cut_inside_an_information_block_is_an_error() {
+    for whole in [ASCII, BINARY] {
+        let Some(begin) = whole.windows(12).position(|w| w == b"INFORMATION ") else {
+            panic!("no INFORMATION block in the fixture");
+        };
+        let Some(len) = whole[begin..].windows(2).position(|w| w == b"\n\n") else {
+            panic!("no end to the INFORMATION block");
+        };
+        // From inside the `INFORMATION` word to just before the closing empty line.
+        for keep in begin + 3..begin + len + 1 {
+            let e = read(&whole[..keep]).err();
+            assert!(
+                e.as_ref()
+                    .is_some_and(|e| e.message.contains("unexpected end of file")),
+                "cut at {keep}: {e:?}"
+            );
+        }
+    }
+}
+
+/// An INFORMATION block that declares more keys than it holds and has no closing empty line
+/// (hand-written files): the array after it is read, with a warning, where VTK drops it.
+#[test]
+fn a_miscounted_information_block_does_not_swallow_the_next_array() {
+    let text = b"# vtk DataFile Version 5.1\nm\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 2 4\nOFFSETS vtktypeint64\n0 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\nCELL_TYPES 1\n10\nPOINT_DATA 4\nSCALARS s float 1\nLOOKUP_TABLE default\n1 2 3 4\nMETADATA\nINFORMATION 3\nNAME L2_NORM_RANGE LOCATION vtkDataArray\nDATA 2 1 4\nSCALARS t float 1\nLOOKUP_TABLE default\n5 6 7 8\n";
+    let g = read(text);
+    assert!(g.is_ok(), "{:?}", g.err());
+    let Ok(g) = g else { return };
+    let names: Vec<&str> = g
+        .point_data
+        .arrays
+        .iter()
+        .map(|a| a.name.as_str())
+        .collect();
+    assert_eq!(names, ["s", "t"]);
+}
