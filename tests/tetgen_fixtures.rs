@@ -240,14 +240,62 @@ fn info_and_convert_run_on_the_readme_fixture() {
 fn written_tetgen_files_read_back_the_same() {
     let dir = tempfile::tempdir().unwrap();
     for name in ["sphere", "regions", "quadratic", "torus"] {
-        let mut g = read(name);
+        let g = read(name);
         let out = dir.path().join(format!("{name}.2.node"));
         formats::write(&out, &g, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
         let back = formats::read(&out).unwrap();
-        // `neighbors` is not written (tetgen -n recomputes it); everything else comes back.
-        g.cell_data.arrays.retain(|a| a.name != "neighbors");
+        // Everything comes back, `neighbors` through `.neigh` where the mesh had one.
         same_grid(&back, &g).unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert!(!dir.path().join(format!("{name}.2.neigh")).exists());
+        assert_eq!(
+            dir.path().join(format!("{name}.2.neigh")).exists(),
+            g.cell_data.get("neighbors").is_some(),
+            "{name}"
+        );
+    }
+}
+
+/// A `neighbors` array `.neigh` cannot hold (here one pointing at a boundary triangle, and one
+/// of three components) is not dropped: it goes to `.ele` as attribute columns.
+#[test]
+fn a_neighbors_array_neigh_cannot_hold_becomes_attribute_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, nt, _) = logged("sphere");
+    for comps in [4usize, 3] {
+        let mut g = read("sphere");
+        let Some(a) = g
+            .cell_data
+            .arrays
+            .iter_mut()
+            .find(|a| a.name == "neighbors")
+        else {
+            panic!("the sphere has neighbours");
+        };
+        let ArrayData::Int64(v) = &mut a.data else {
+            panic!("neighbors is Int64")
+        };
+        // Tet 0's first neighbour: the first boundary triangle (cell nt), not a tet.
+        v[0] = nt as i64;
+        if comps == 3 {
+            let n = v.len() / 4;
+            let three: Vec<i64> = (0..n * 3).map(|k| v[k / 3 * 4 + k % 3]).collect();
+            *v = three;
+            a.components = 3;
+        }
+        let out = dir.path().join(format!("n{comps}.node"));
+        formats::write(&out, &g, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!dir.path().join(format!("n{comps}.neigh")).exists());
+        let back = formats::read(&out).unwrap();
+        let ele = std::fs::read_to_string(dir.path().join(format!("n{comps}.ele"))).unwrap();
+        let header: Vec<&str> = ele
+            .lines()
+            .find(|l| !l.starts_with('#'))
+            .unwrap()
+            .split_whitespace()
+            .collect();
+        // The neighbours' columns (the sphere has no region attribute).
+        assert_eq!(header[2], comps.to_string(), "{header:?}");
+        let attr = formats::tetgen::names::ele_attribute(comps - 1);
+        assert!(back.cell_data.get(&attr).is_some(), "no {attr}");
     }
 }
 
@@ -282,6 +330,7 @@ fn rewriting_without_faces_removes_stale_face_and_neigh_files() {
     g.cells.offsets.truncate(nt + 1);
     g.cells.connectivity.truncate(4 * nt);
     g.cell_data = g.cell_data.gather(&keep);
+    g.cell_data.arrays.retain(|a| a.name != "neighbors");
     formats::write(&dir.path().join("s.node"), &g, &Default::default()).unwrap();
     assert!(!dir.path().join("s.face").exists() && !dir.path().join("s.neigh").exists());
     let back = formats::read(&dir.path().join("s.ele")).unwrap();

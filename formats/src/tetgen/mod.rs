@@ -17,7 +17,9 @@
 //! every numeric point array becomes node attribute columns, one per component, and every
 //! numeric cell array except `boundary_marker` and `neighbors` becomes `.ele` attribute columns,
 //! `region` first); all values as decimal reals, so types are not kept (a reread gives Float64)
-//! and integers beyond 2^53 are rounded; `neighbors` is not written (TetGen recomputes it).
+//! and integers beyond 2^53 are rounded; `neighbors` is written as `.neigh` (each tet's
+//! neighbours by their `.ele` numbers) when every entry is -1 or a tet of the mesh, else as
+//! `.ele` attribute columns like any other array.
 
 mod read;
 mod records;

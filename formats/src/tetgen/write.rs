@@ -1,4 +1,4 @@
-//! Writing `.node`/`.ele` (+ `.face`) beside each other, all or none.
+//! Writing `.node`/`.ele` (+ `.face`, `.neigh`) beside each other, all or none.
 
 use super::read::sibling;
 use super::{names, TG_FROM_VTK_QUADRATIC_TETRA};
@@ -18,22 +18,30 @@ const VTK_FROM_TG: [usize; 10] = {
     inv
 };
 
-/// Writes `.node` and `.ele` beside `path` (both or neither), and `.face` when the mesh has
-/// triangle cells; see the module documentation for what TetGen files cannot hold. A `.face`
+/// Writes `.node` and `.ele` beside `path` (all or none), `.face` when the mesh has triangle
+/// cells and `.neigh` when it has a `neighbors` array `.neigh` can hold; see the module documentation for what TetGen files cannot hold. A `.face`
 /// or `.neigh` of the same name left from an earlier mesh would be read back with the new files,
 /// so it is removed once the new files are in place.
 pub fn write(path: &Path, grid: &Grid) -> Result<()> {
     let stem = path.with_extension("");
     let plan = Plan::new(grid).map_err(|e| e.with_file(path))?;
     let mut targets: Vec<PathBuf> = vec![sibling(&stem, "node"), sibling(&stem, "ele")];
+    // Which file each target is: node, ele, face, neigh.
+    let mut files = vec![0u8, 1];
     if !plan.faces.is_empty() {
         targets.push(sibling(&stem, "face"));
+        files.push(2);
+    }
+    if plan.neighbors.is_some() {
+        targets.push(sibling(&stem, "neigh"));
+        files.push(3);
     }
     write_all_or_none(&targets, |i, w| {
-        let r = match i {
+        let r = match files[i] {
             0 => plan.node(grid, w),
             1 => plan.ele(grid, w),
-            _ => plan.face(grid, w),
+            2 => plan.face(grid, w),
+            _ => plan.neigh(grid, w),
         };
         r.map_err(|e| WriteError(FormatError::io(&targets[i], e)))
     })
@@ -71,6 +79,9 @@ struct Plan<'g> {
     node_marker: Option<&'g DataArray>,
     ele_attrs: Vec<&'g DataArray>,
     face_marker: Option<&'g DataArray>,
+    /// The `neighbors` cell array, when every tet's four entries are -1 or a tet of the mesh
+    /// (what `.neigh` holds); otherwise it goes to `.ele` as attribute columns.
+    neighbors: Option<&'g DataArray>,
 }
 
 fn is_integer(a: &DataArray) -> bool {
@@ -87,6 +98,7 @@ impl<'g> Plan<'g> {
             node_marker: None,
             ele_attrs: Vec::new(),
             face_marker: None,
+            neighbors: None,
         };
         let mut face_order = 0;
         for (i, &t) in grid.cells.types.iter().enumerate() {
@@ -141,12 +153,34 @@ impl<'g> Plan<'g> {
         for a in &grid.cell_data.arrays {
             if a.name == names::BOUNDARY_MARKER && a.components == 1 && is_integer(a) {
                 plan.face_marker = Some(a);
-            } else if a.name != names::NEIGHBORS && a.data.scalar_type().is_some() {
+            } else if a.name == names::NEIGHBORS && plan.holds_neighbors(grid, a) {
+                plan.neighbors = Some(a);
+            } else if a.data.scalar_type().is_some() {
                 plan.ele_attrs.push(a);
             }
         }
         plan.ele_attrs.sort_by_key(|a| a.name != names::REGION);
         Ok(plan)
+    }
+
+    /// Whether `.neigh` can hold `a`: four integer components, each tet's entries -1 or the
+    /// index of a tet cell.
+    fn holds_neighbors(&self, grid: &Grid, a: &DataArray) -> bool {
+        let is_tet =
+            |v: f64| {
+                v == -1.0
+                    || (v >= 0.0
+                        && v.fract() == 0.0
+                        && grid.cells.types.get(v as usize).is_some_and(|&t| {
+                            t == cell_type::TETRA || t == cell_type::QUADRATIC_TETRA
+                        }))
+            };
+        a.components == 4
+            && is_integer(a)
+            && self
+                .tets
+                .iter()
+                .all(|&i| (0..4).all(|k| is_tet(a.data.get_f64(i * 4 + k))))
     }
 
     fn columns(arrays: &[&DataArray]) -> usize {
@@ -225,6 +259,38 @@ impl<'g> Plan<'g> {
             }
             if let Some(m) = self.face_marker {
                 write!(line, " {}", m.data.get_f64(i))?;
+            }
+            line.push(b'\n');
+            w.write_all(&line)?;
+        }
+        Ok(())
+    }
+}
+
+impl Plan<'_> {
+    /// `.neigh`: per tet its four neighbours (opposite its four nodes, as read) by their
+    /// numbers in `.ele`, -1 for none.
+    fn neigh(&self, grid: &Grid, w: &mut dyn Write) -> std::io::Result<()> {
+        let Some(a) = self.neighbors else {
+            return Ok(());
+        };
+        let mut number = vec![-1i64; grid.num_cells()];
+        for (k, &i) in self.tets.iter().enumerate() {
+            number[i] = k as i64 + 1;
+        }
+        writeln!(
+            w,
+            "# written by tetkit: <tetrahedra> <neighbours per tetrahedron>"
+        )?;
+        writeln!(w, "{} 4", self.tets.len())?;
+        let mut line = Vec::with_capacity(96);
+        for (k, &i) in self.tets.iter().enumerate() {
+            line.clear();
+            write!(line, "{}", k + 1)?;
+            for c in 0..4 {
+                let v = a.data.get_f64(i * 4 + c);
+                let n = if v < 0.0 { -1 } else { number[v as usize] };
+                write!(line, " {n}")?;
             }
             line.push(b'\n');
             w.write_all(&line)?;
