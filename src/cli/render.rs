@@ -417,7 +417,14 @@ impl Session {
     /// faces of an unwelded mesh instead of re-entering through the grid at each (5x slower on
     /// a per-element mesh of 8,640 tets, same image).
     pub fn topology(&self) -> Topology {
-        Topology::build(self.welded().unwrap_or(&self.mesh.tets))
+        let topo = Topology::build(self.welded().unwrap_or(&self.mesh.tets));
+        if topo.nonmanifold > 0 {
+            eprintln!(
+                "tetkit: warning: {} faces are shared by more than two tets (duplicated or overlapping tets, such as a mesh appended to itself): the ray caster takes them as boundary faces and its walks there are not exact",
+                topo.nonmanifold
+            );
+        }
+        topo
     }
 
     /// [`TetMesh::welded_tets`] of this session's mesh, computed on first use.
@@ -445,7 +452,9 @@ impl Session {
     /// The sorter (adjacency, leaves from the input's K-D tree when it carries one).
     pub fn sorter(&self) -> Result<Sorter<'_>> {
         let tree = crate::partition::KdTree::from_field_data(&self.mesh.field_data)?;
-        Sorter::with_welded(&self.mesh, tree.as_ref(), self.welded())
+        let sorter = Sorter::with_welded(&self.mesh, tree.as_ref(), self.welded())?;
+        super::sort::note_nonmanifold(&sorter);
+        Ok(sorter)
     }
 }
 

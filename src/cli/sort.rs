@@ -107,6 +107,7 @@ pub fn run(args: &SortArgs) -> anyhow::Result<()> {
         .with_context(|| format!("{}", args.input.display()))?;
     let t0 = std::time::Instant::now();
     let sorter = Sorter::new(&mesh, tree.as_ref())?;
+    note_nonmanifold(&sorter);
     let setup = t0.elapsed().as_secs_f64();
     let order = sorter.order(&cam, args.method, args.direction);
     annotate(&mut grid, &order, args.direction);
@@ -139,4 +140,14 @@ pub fn run(args: &SortArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// Warns when the mesh has faces shared by more than two tets.
+pub(crate) fn note_nonmanifold(sorter: &Sorter) {
+    let n = sorter.nonmanifold_faces();
+    if n > 0 {
+        eprintln!(
+            "tetkit: warning: {n} faces are shared by more than two tets (duplicated or overlapping tets, such as a mesh appended to itself): the tets on either side of each were paired, but no visibility order is exact between tets that overlap"
+        );
+    }
 }

@@ -264,7 +264,10 @@ mod tests {
         let longest = longest_edge(&grid);
         assert_eq!(table_length(&grid, &tf(0.3, 10.0)?, 32), longest);
         let opaque = table_length(&grid, &tf(1.0, 0.01)?, 32);
-        assert!(opaque > 0.2 * longest && opaque < 0.5 * longest, "{opaque} of {longest}");
+        assert!(
+            opaque > 0.2 * longest && opaque < 0.5 * longest,
+            "{opaque} of {longest}"
+        );
         // Flattened to 1e-4 of its height (a plate): its fragments are as short as it is
         let mut plate = structured_grid([6, 6, 6], [0.0; 3], [1.0; 3]);
         for p in plate.points.iter_mut() {

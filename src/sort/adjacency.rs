@@ -37,6 +37,23 @@ pub fn sorted_face(tet: &[u32; 4], i: usize) -> [u32; 3] {
     f
 }
 
+/// Whether the two tets of a face lie strictly on the same side of it: they overlap (the same
+/// tet twice, or a boundary face of a mesh appended to itself), so neither is in front of the
+/// other across it and the face is boundary to both. A flat tet (zero) still pairs.
+fn same_side(points: &[[f64; 3]], tets: &[[u32; 4]], pair: &[(u32, u32, u32, u32)]) -> bool {
+    let side = |key: &(u32, u32, u32, u32)| {
+        let (t, i) = ((key.3 >> 2) as usize, (key.3 & 3) as usize);
+        orient3d(
+            &points[key.0 as usize],
+            &points[key.1 as usize],
+            &points[key.2 as usize],
+            &points[tets[t][i] as usize],
+        )
+    };
+    let (a, b) = (side(&pair[0]), side(&pair[1]));
+    (a > 0.0 && b > 0.0) || (a < 0.0 && b < 0.0)
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Adjacency {
     /// Neighbour across face `i` (opposite vertex `i`), or [`NONE`].
@@ -46,7 +63,9 @@ pub struct Adjacency {
     /// shared face: the two tets always get opposite bits, even for flat or inverted tets, so the
     /// per-view "who is in front" is one decision per face.
     pub positive_side: Vec<u8>,
-    /// Faces shared by more than two tets (a non-manifold input); such faces get no neighbour.
+    /// Faces shared by more than two tets (a non-manifold input: duplicated or overlapping
+    /// tets). Their tets on one side are paired with those on the other in id order; the rest
+    /// get no neighbour.
     pub nonmanifold_faces: usize,
     /// Tets with zero volume (all four points coplanar).
     pub flat_tets: usize,
@@ -77,12 +96,38 @@ impl Adjacency {
             {
                 e += 1;
             }
-            if e - k == 2 {
+            if e - k == 2 && !same_side(points, tets, &keys[k..e]) {
                 let (a, b) = (keys[k].3, keys[k + 1].3);
                 neighbors[(a >> 2) as usize][(a & 3) as usize] = b >> 2;
                 neighbors[(b >> 2) as usize][(b & 3) as usize] = a >> 2;
             } else if e - k > 2 {
+                // More than two tets on one face: duplicated or overlapping tets (a mesh appended
+                // to itself). Left as boundary faces they made every such face a non-convex
+                // leaf's boundary, whose pairwise screen constraints grow with the square of the
+                // tets (a doubled grid of 17k tets sorted in 35 s). Pair the tets on one side
+                // with those on the other, in id order: a doubled mesh becomes two copies each
+                // joined as the original was.
                 nonmanifold += 1;
+                let f = [keys[k].0, keys[k].1, keys[k].2];
+                let (mut pos, mut neg) = (Vec::new(), Vec::new());
+                for key in &keys[k..e] {
+                    let (t, i) = ((key.3 >> 2) as usize, (key.3 & 3) as usize);
+                    let s = orient3d(
+                        &points[f[0] as usize],
+                        &points[f[1] as usize],
+                        &points[f[2] as usize],
+                        &points[tets[t][i] as usize],
+                    );
+                    if s > 0.0 {
+                        pos.push(key.3);
+                    } else if s < 0.0 {
+                        neg.push(key.3);
+                    }
+                }
+                for (&a, &b) in pos.iter().zip(&neg) {
+                    neighbors[(a >> 2) as usize][(a & 3) as usize] = b >> 2;
+                    neighbors[(b >> 2) as usize][(b & 3) as usize] = a >> 2;
+                }
             }
             k = e;
         }

@@ -280,6 +280,12 @@ impl<'m> Sorter<'m> {
         self.outside_leaf
     }
 
+    /// Faces shared by more than two tets (duplicated or overlapping tets): paired by side in
+    /// the adjacency, but no order is exact between overlapping tets.
+    pub fn nonmanifold_faces(&self) -> usize {
+        self.adj.nonmanifold_faces
+    }
+
     /// Number of leaves whose tets do not form a convex region.
     pub fn nonconvex_leaves(&self) -> usize {
         self.leaf_boundary.iter().filter(|b| b.is_some()).count()
