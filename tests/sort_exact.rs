@@ -433,3 +433,26 @@ fn a_mesh_appended_to_itself_sorts_as_the_single_mesh() {
         assert_eq!(r.violations, 0, "copy {copy}: {r:?}");
     }
 }
+
+/// Tets of zero volume (a repeated vertex, `[a, b, c, a]`, as some exporters write collapsed
+/// cells) hold no segment of any ray: the checker leaves them out. Clipping rays against their
+/// degenerate planes gave them made-up intervals: a grid with 200 of them showed 1644
+/// violations of a kd order that has none.
+#[test]
+fn zero_volume_tets_make_no_violations() {
+    let n = [12, 12, 12];
+    let mut m = structured_grid(n, [0.0; 3], [1.0; 3]);
+    m.cell_data = Default::default();
+    for t in 0..200 {
+        let [a, b, c, _] = m.tets[t];
+        m.tets.push([a, b, c, a]);
+    }
+    let s = Sorter::new(&m, None);
+    assert!(s.is_ok());
+    let Ok(s) = s else { return };
+    for c in cameras() {
+        let o = s.order(&c, Method::Kd, Direction::FrontToBack);
+        let r = check_order(&m, &c, &o.ranks(), true, 64, 64);
+        assert_eq!(r.violations, 0, "{c:?}: {r:?}");
+    }
+}

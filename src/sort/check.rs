@@ -50,6 +50,13 @@ pub fn check_order(
     let mut everywhere = Vec::new();
     let mut spans: Vec<(u32, [u32; 4])> = Vec::with_capacity(mesh.tets.len());
     for t in 0..mesh.tets.len() {
+        // A tet of zero volume (four coplanar points, or a repeated one) holds no segment of
+        // any ray; clipping against its degenerate face planes gave it made-up intervals, and
+        // 200 such tets in a grid showed 1644 violations of an order that has none.
+        let p = mesh.tets[t].map(|v| mesh.points[v as usize]);
+        if crate::geom::orient3d(&p[0], &p[1], &p[2], &p[3]) == 0.0 {
+            continue;
+        }
         let q = mesh.tets[t].map(|v| cam.project(&mesh.points[v as usize], w, h));
         if !cam.parallel {
             let near = 1e-9 * diag;
