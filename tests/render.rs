@@ -84,6 +84,32 @@ fn pt_image(
     .0
 }
 
+/// Kd order and pre-integrated PT with a table of `size` over length axis `lmax`.
+fn kd_preintegrated(
+    m: &TetMesh,
+    f: &Field,
+    tf: &TransferFunction,
+    cam: &Camera,
+    n: u32,
+    size: TableSize,
+    lmax: f64,
+) -> Image {
+    let order =
+        Sorter::new(m, None).map(|s| s.order(cam, Method::Kd, Direction::FrontToBack).order);
+    assert!(order.is_ok(), "sort failed");
+    let order = order.unwrap_or_default();
+    let shader = prepare::shader(tf, Integration::Preintegrated, size, lmax);
+    pt::render(
+        &View::new(cam, n, n),
+        &m.points,
+        &m.tets,
+        f,
+        &order,
+        &shader,
+    )
+    .0
+}
+
 fn view_of(m: &TetMesh, az: f64, el: f64, parallel: bool) -> Camera {
     common::look::orbit_camera(m, az, el, parallel, 1.3)
 }
@@ -312,22 +338,7 @@ fn the_default_table_fits_its_length_steps_to_a_coarse_mesh() {
     let n = 64;
     let cam = view_of(&m, 30.0, 20.0, false);
     let r = reference(&m, &f, &ramp, &cam, n);
-    let order =
-        Sorter::new(&m, None).map(|s| s.order(&cam, Method::Kd, Direction::FrontToBack).order);
-    assert!(order.is_ok(), "sort failed");
-    let order = order.unwrap_or_default();
-    let render = |size: TableSize| {
-        let shader = prepare::shader(&ramp, Integration::Preintegrated, size, lmax);
-        pt::render(
-            &View::new(&cam, n, n),
-            &m.points,
-            &m.tets,
-            &f,
-            &order,
-            &shader,
-        )
-        .0
-    };
+    let render = |size: TableSize| kd_preintegrated(&m, &f, &ramp, &cam, n, size, lmax);
     let fitted = render(size).error_against(&r, BG);
     let fixed = render(TableSize::default()).error_against(&r, BG);
     eprintln!("coarse block: fitted {size:?} {fitted:?}; 128x32 {fixed:?}");
@@ -374,20 +385,7 @@ fn a_flattened_mesh_keeps_the_preintegrated_table_within_a_step_of_its_thickness
     let n = 96;
     let cam = view_of(&m, 20.0, 35.0, false);
     let r = reference(&m, &f, &ramp, &cam, n);
-    let order =
-        Sorter::new(&m, None).map(|s| s.order(&cam, Method::Kd, Direction::FrontToBack).order);
-    assert!(order.is_ok(), "sort failed");
-    let order = order.unwrap_or_default();
-    let shader = prepare::shader(&ramp, Integration::Preintegrated, size, lmax);
-    let img = pt::render(
-        &View::new(&cam, n, n),
-        &m.points,
-        &m.tets,
-        &f,
-        &order,
-        &shader,
-    )
-    .0;
+    let img = kd_preintegrated(&m, &f, &ramp, &cam, n, size, lmax);
     let e = img.error_against(&r, BG);
     eprintln!("flattened torus: {size:?}, axis {lmax:e}: {e:?}");
     assert!(e.max < 3.0 / 255.0 && e.rmse < 1e-3, "{e:?}");
