@@ -418,12 +418,10 @@ impl Session {
     /// a per-element mesh of 8,640 tets, same image).
     pub fn topology(&self) -> Topology {
         let topo = Topology::build(self.welded().unwrap_or(&self.mesh.tets));
-        if topo.nonmanifold > 0 {
-            eprintln!(
-                "tetkit: warning: {} faces are shared by more than two tets (duplicated or overlapping tets, such as a mesh appended to itself): the ray caster takes them as boundary faces and its walks there are not exact",
-                topo.nonmanifold
-            );
-        }
+        super::sort::warn_nonmanifold(
+            topo.nonmanifold,
+            "the ray caster takes them as boundary faces and its walks there are not exact",
+        );
         topo
     }
 

@@ -142,12 +142,19 @@ pub fn run(args: &SortArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Warns when the mesh has faces shared by more than two tets.
+/// Warns when the sorter's mesh has faces shared by more than two tets.
 pub(crate) fn note_nonmanifold(sorter: &Sorter) {
-    let n = sorter.nonmanifold_faces();
+    warn_nonmanifold(
+        sorter.nonmanifold_faces(),
+        "the tets on either side of each were paired, but no visibility order is exact between tets that overlap",
+    );
+}
+
+/// Warns that `n` faces are shared by more than two tets, and what that does (`consequence`).
+pub(crate) fn warn_nonmanifold(n: usize, consequence: &str) {
     if n > 0 {
         eprintln!(
-            "tetkit: warning: {n} faces are shared by more than two tets (duplicated or overlapping tets, such as a mesh appended to itself): the tets on either side of each were paired, but no visibility order is exact between tets that overlap"
+            "tetkit: warning: {n} faces are shared by more than two tets (duplicated or overlapping tets, such as a mesh appended to itself): {consequence}"
         );
     }
 }

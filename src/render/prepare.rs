@@ -102,24 +102,17 @@ pub fn table_length(mesh: &TetMesh, tf: &TransferFunction, steps: usize) -> f64 
 
 /// Twice the mean chord `4 V / S` of tet `t` (0 for a flat one).
 fn tet_typical_chord(mesh: &TetMesh, t: &[u32; 4]) -> f64 {
+    use crate::geom::{cross, dot, sub};
     let p = t.map(|v| mesh.points[v as usize]);
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    let (e1, e2, e3) = (sub(p[1], p[0]), sub(p[2], p[0]), sub(p[3], p[0]));
-    let n = cross(e1, e2);
-    let six_v = (n[0] * e3[0] + n[1] * e3[1] + n[2] * e3[2]).abs();
+    let norm = |a: [f64; 3]| dot(&a, &a).sqrt();
+    let (e1, e2, e3) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
+    let n = cross(&e1, &e2);
+    let six_v = dot(&n, &e3).abs();
     // Twice the surface area: the four faces' cross products.
     let two_s = norm(n)
-        + norm(cross(e2, e3))
-        + norm(cross(e3, e1))
-        + norm(cross(sub(p[2], p[1]), sub(p[3], p[1])));
+        + norm(cross(&e2, &e3))
+        + norm(cross(&e3, &e1))
+        + norm(cross(&sub(&p[2], &p[1]), &sub(&p[3], &p[1])));
     // 2 * 4 V / S = 8 (6V / 6) / (2S / 2) = (8 / 3) 6V / 2S.
     let c = 8.0 / 3.0 * six_v / two_s;
     if c.is_finite() {

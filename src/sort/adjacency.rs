@@ -37,23 +37,6 @@ pub fn sorted_face(tet: &[u32; 4], i: usize) -> [u32; 3] {
     f
 }
 
-/// Whether the two tets of a face lie strictly on the same side of it: they overlap (the same
-/// tet twice, or a boundary face of a mesh appended to itself), so neither is in front of the
-/// other across it and the face is boundary to both. A flat tet (zero) still pairs.
-fn same_side(points: &[[f64; 3]], tets: &[[u32; 4]], pair: &[(u32, u32, u32, u32)]) -> bool {
-    let side = |key: &(u32, u32, u32, u32)| {
-        let (t, i) = ((key.3 >> 2) as usize, (key.3 & 3) as usize);
-        orient3d(
-            &points[key.0 as usize],
-            &points[key.1 as usize],
-            &points[key.2 as usize],
-            &points[tets[t][i] as usize],
-        )
-    };
-    let (a, b) = (side(&pair[0]), side(&pair[1]));
-    (a > 0.0 && b > 0.0) || (a < 0.0 && b < 0.0)
-}
-
 #[derive(Clone, Debug, Default)]
 pub struct Adjacency {
     /// Neighbour across face `i` (opposite vertex `i`), or [`NONE`].
@@ -86,6 +69,34 @@ impl Adjacency {
             })
             .collect();
         keys.par_sort_unstable();
+        // Per tet, bit `i` of the first mask: on the positive `orient3d` side of its sorted face
+        // `i`; of the second: on the negative side (neither: a flat tet's face). One exact test
+        // per face and tet serves the face matching below and the sides kept.
+        let sides: Vec<(u8, u8)> = (0..n)
+            .into_par_iter()
+            .map(|t| {
+                let tet = &tets[t];
+                let (mut pos, mut neg) = (0u8, 0u8);
+                for i in 0..4 {
+                    let f = sorted_face(tet, i);
+                    let s = orient3d(
+                        &points[f[0] as usize],
+                        &points[f[1] as usize],
+                        &points[f[2] as usize],
+                        &points[tet[i] as usize],
+                    );
+                    pos |= ((s > 0.0) as u8) << i;
+                    neg |= ((s < 0.0) as u8) << i;
+                }
+                (pos, neg)
+            })
+            .collect();
+        // The sign (1, -1, 0) of a face key's tet on its side of the face.
+        let side = |key: u32| {
+            let (t, i) = ((key >> 2) as usize, key & 3);
+            let (pos, neg) = sides[t];
+            (pos >> i & 1) as i8 - (neg >> i & 1) as i8
+        };
         let mut neighbors = vec![[NONE; 4]; n];
         let mut nonmanifold = 0usize;
         let mut k = 0;
@@ -96,67 +107,39 @@ impl Adjacency {
             {
                 e += 1;
             }
-            if e - k == 2 && !same_side(points, tets, &keys[k..e]) {
-                let (a, b) = (keys[k].3, keys[k + 1].3);
-                neighbors[(a >> 2) as usize][(a & 3) as usize] = b >> 2;
-                neighbors[(b >> 2) as usize][(b & 3) as usize] = a >> 2;
-            } else if e - k > 2 {
-                // More than two tets on one face: duplicated or overlapping tets (a mesh appended
-                // to itself). Left as boundary faces they made every such face a non-convex
-                // leaf's boundary, whose pairwise screen constraints grow with the square of the
-                // tets (a doubled grid of 17k tets sorted in 35 s). Pair the tets on one side
-                // with those on the other, in id order: a doubled mesh becomes two copies each
-                // joined as the original was.
+            if e - k > 2 {
                 nonmanifold += 1;
-                let f = [keys[k].0, keys[k].1, keys[k].2];
-                let (mut pos, mut neg) = (Vec::new(), Vec::new());
-                for key in &keys[k..e] {
-                    let (t, i) = ((key.3 >> 2) as usize, (key.3 & 3) as usize);
-                    let s = orient3d(
-                        &points[f[0] as usize],
-                        &points[f[1] as usize],
-                        &points[f[2] as usize],
-                        &points[tets[t][i] as usize],
-                    );
-                    if s > 0.0 {
-                        pos.push(key.3);
-                    } else if s < 0.0 {
-                        neg.push(key.3);
-                    }
-                }
-                for (&a, &b) in pos.iter().zip(&neg) {
+            }
+            if e - k >= 2 {
+                // Two tets strictly on the same side of a face overlap (the same tet twice, or a
+                // boundary face of a mesh appended to itself): neither is in front of the other
+                // across it, so the face stays boundary to both; a flat tet (sign 0) still pairs.
+                // More than two tets on a face (duplicated or overlapping tets): left as
+                // boundary faces they made every such face a non-convex leaf's boundary, whose
+                // pairwise screen constraints grow with the square of the tets (a doubled grid
+                // of 17k tets sorted in 35 s). So the tets on one side are paired with those on
+                // the other in id order: a doubled mesh becomes two copies each joined as the original was.
+                let mut join = |a: u32, b: u32| {
                     neighbors[(a >> 2) as usize][(a & 3) as usize] = b >> 2;
                     neighbors[(b >> 2) as usize][(b & 3) as usize] = a >> 2;
+                };
+                let group = &keys[k..e];
+                if e - k == 2 {
+                    let (a, b) = (group[0].3, group[1].3);
+                    if side(a) != side(b) || side(a) == 0 {
+                        join(a, b);
+                    }
+                } else {
+                    let of = |sign: i8| group.iter().map(|g| g.3).filter(move |&g| side(g) == sign);
+                    for (a, b) in of(1).zip(of(-1)) {
+                        join(a, b);
+                    }
                 }
             }
             k = e;
         }
         drop(keys);
-        let sides: Vec<(u8, bool)> = (0..n)
-            .into_par_iter()
-            .map(|t| {
-                let tet = &tets[t];
-                let mut bits = 0u8;
-                let mut flat = true;
-                for i in 0..4 {
-                    let f = sorted_face(tet, i);
-                    let s = orient3d(
-                        &points[f[0] as usize],
-                        &points[f[1] as usize],
-                        &points[f[2] as usize],
-                        &points[tet[i] as usize],
-                    );
-                    if s != 0.0 {
-                        flat = false;
-                    }
-                    if s > 0.0 {
-                        bits |= 1 << i;
-                    }
-                }
-                (bits, flat)
-            })
-            .collect();
-        let flat_tets = sides.iter().filter(|s| s.1).count();
+        let flat_tets = sides.iter().filter(|s| s.0 | s.1 == 0).count();
         let mut positive_side: Vec<u8> = sides.into_iter().map(|s| s.0).collect();
         // Two tets on the same side of their shared face (an inverted or flat tet): let the lower
         // id decide, so the face still gives one consistent constraint.

@@ -57,7 +57,7 @@ pub fn check_order(
         if crate::geom::orient3d(&p[0], &p[1], &p[2], &p[3]) == 0.0 {
             continue;
         }
-        let q = mesh.tets[t].map(|v| cam.project(&mesh.points[v as usize], w, h));
+        let q = p.map(|x| cam.project(&x, w, h));
         if !cam.parallel {
             let near = 1e-9 * diag;
             if q.iter().all(|p| p[2] <= 0.0) {
