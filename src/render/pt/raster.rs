@@ -98,12 +98,27 @@ struct Cover<const L: usize> {
 /// value it evaluates is then below `2^30` in magnitude (see [`Cover::new`]).
 const EXTENT: i64 = 1 << 14;
 
-impl<const L: usize> Cover<L> {
-    /// The cover of the clipped box starting at pixel `(x0, y0)`, at most `L` pixels wide (`w`);
+/// The silhouette's edge functions in `i32` at the first pixel of a clipped box at most 16
+/// pixels wide: what [`Cover`] fills its lanes from (and the AVX-512 rows their registers).
+pub(super) struct CoverEdges {
+    /// Value of each edge at the box's first pixel centre.
+    pub(super) e0: [i32; 4],
+    /// Change of each edge value from one pixel to the next along a row.
+    pub(super) ea: [i32; 4],
+    /// Change of each edge value from one row to the next.
+    pub(super) step: [i32; 4],
+    /// Lanes inside the clipped box.
+    pub(super) lanes: u32,
+    /// Pixel of lane 0.
+    pub(super) x0: i64,
+}
+
+impl CoverEdges {
+    /// The edges of the clipped box starting at pixel `(x0, y0)`, `w <= 16` pixels wide;
     /// `None` when the silhouette is too large for `i32`.
     #[inline(always)]
-    fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<Cover<L>> {
-        debug_assert!(w as usize <= L && L <= 16);
+    pub(super) fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<CoverEdges> {
+        debug_assert!((1..=16).contains(&w));
         // Edge k runs from corner k to the next; a triangle's unused slot repeats its first
         // edge, so the minimum over all four is unchanged.
         let p = &t.poly;
@@ -132,8 +147,7 @@ impl<const L: usize> Cover<L> {
         // every corner on each axis.
         let (cx, cy) = (x0 * SUB + SUB / 2, y0 * SUB + SUB / 2);
         let sub = SUB as i32;
-        let mut row = [[0i32; L]; 4];
-        let mut step = [0i32; 4];
+        let (mut e0, mut ea, mut step) = ([0i32; 4], [0i32; 4], [0i32; 4]);
         for k in 0..4 {
             // E(X, Y) = dx (Y - py) - dy (X - px), with the owner rule of [`Edge::new`]: the
             // same integer as the `i64` edge function, every term bounded as above, so `i32`
@@ -144,18 +158,38 @@ impl<const L: usize> Cover<L> {
                 (cx - from[k][0] as i64) as i32,
                 (cy - from[k][1] as i64) as i32,
             );
-            let e0 = dx * ry - dy * rx - (!own) as i32;
-            let ea = -dy * sub;
-            for (i, v) in row[k].iter_mut().enumerate() {
-                *v = e0 + ea * i as i32;
-            }
+            e0[k] = dx * ry - dy * rx - (!own) as i32;
+            ea[k] = -dy * sub;
             step[k] = dx * sub;
         }
-        Some(Cover {
-            row,
+        Some(CoverEdges {
+            e0,
+            ea,
             step,
             lanes: (1u32 << w) - 1,
             x0,
+        })
+    }
+}
+
+impl<const L: usize> Cover<L> {
+    /// The cover of the clipped box starting at pixel `(x0, y0)`, at most `L` pixels wide (`w`);
+    /// `None` when the silhouette is too large for `i32`.
+    #[inline(always)]
+    fn new(t: &TetSetup, x0: i64, y0: i64, w: i64) -> Option<Cover<L>> {
+        debug_assert!(w as usize <= L && L <= 16);
+        let e = CoverEdges::new(t, x0, y0, w)?;
+        let mut row = [[0i32; L]; 4];
+        for (k, r) in row.iter_mut().enumerate() {
+            for (i, v) in r.iter_mut().enumerate() {
+                *v = e.e0[k] + e.ea[k] * i as i32;
+            }
+        }
+        Some(Cover {
+            row,
+            step: e.step,
+            lanes: e.lanes,
+            x0: e.x0,
         })
     }
 }
@@ -419,6 +453,15 @@ pub(crate) fn raster_with<S: Shade>(
         width,
         shade,
     };
+    #[cfg(target_arch = "x86_64")]
+    if simd == Path::Best && w <= 16 && super::raster_x86::wide_rows_fit(&draw, x1, y1) {
+        if let Some(c) = CoverEdges::new(t, x0, y0, w) {
+            // SAFETY: the CPU has AVX2, AVX-512F and AVX-512VL, and the stretch map holds
+            // every pixel of rows `y0 ..= y1` up to `x1` (both checked by `wide_rows_fit`).
+            let d = unsafe { super::raster_x86::wide_rows(&draw, &c, y0, y1, buf) };
+            return (d.frags, d.opaque);
+        }
+    }
     let d = if w <= 8 {
         Cover::<8>::new(t, x0, y0, w).map(|c| draw.run_with(c, y0, y1, buf, simd))
     } else if w <= 16 {
@@ -706,7 +749,9 @@ mod tests {
         let stretch: Vec<f32> = (0..w * h).map(|i| 1.0 + (i % 7) as f32 * 0.125).collect();
         let mut compared = 0;
         for case in 0..3000 {
-            let span = [6, 20, 70, 400][case % 4] * SUB;
+            // Boxes up to 16 pixels wide take the AVX-512 batch of 16 (rows split across it), wider
+            // ones the searched rows.
+            let span = [6, 14, 20, 70, 400][case % 5] * SUB;
             let (cx, cy) = (
                 (rnd() % (w * SUB) as u64) as i64,
                 (rnd() % (h * SUB) as u64) as i64,
@@ -754,8 +799,13 @@ mod tests {
                         }
                     }
                     let ra = shade(&mut a, Path::Scalar);
-                    let bits =
-                        |v: &[[f32; 4]]| v.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+                    // Bits, with every NaN as one: Rust leaves a NaN's sign and payload open
+                    // (an add may take either operand's), so paths may differ only there.
+                    let bits = |v: &[[f32; 4]]| {
+                        v.iter()
+                            .map(|p| p.map(|x| if x.is_nan() { u32::MAX } else { x.to_bits() }))
+                            .collect::<Vec<_>>()
+                    };
                     for path in [Path::Avx2, Path::Best] {
                         let mut c = b.clone();
                         let rc = shade(&mut c, path);

@@ -81,6 +81,12 @@ pub(crate) const LANES: usize = 8;
 /// (Sf, Sb, l) of [`LANES`] fragments.
 pub(crate) type Lanes = [[f32; LANES]; 3];
 
+/// Pixels of the AVX-512 rasterizer's batch: one 512-bit register of `f32`.
+pub(crate) const WIDE_LANES: usize = 16;
+
+/// (Sf, Sb, l) of [`WIDE_LANES`] fragments.
+pub(crate) type WideLanes = [[f32; WIDE_LANES]; 3];
+
 /// What a tet's drawing counts: fragments drawn and pixels that became opaque.
 #[derive(Default)]
 pub(crate) struct Drawn {
@@ -143,6 +149,33 @@ pub(crate) trait Shade {
     ) {
         // SAFETY: the caller's promise includes AVX2.
         unsafe { self.composite_avx2(f, at, n, buf, d) }
+    }
+
+    /// [`Shade::composite_avx512`] for the [`WIDE_LANES`] lanes of the AVX-512 rasterizer's
+    /// batch: by default its two halves in turn (lanes are distinct pixels, so the order does
+    /// not change a bit).
+    ///
+    /// # Safety
+    /// The CPU has AVX2, AVX-512F and AVX-512VL.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn composite_wide(
+        &self,
+        f: &WideLanes,
+        at: &[usize; WIDE_LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        for lo in [0, LANES] {
+            if n <= lo {
+                break;
+            }
+            let half: Lanes = std::array::from_fn(|k| std::array::from_fn(|i| f[k][lo + i]));
+            let at: [usize; LANES] = std::array::from_fn(|i| at[lo + i]);
+            // SAFETY: the caller's promise.
+            unsafe { self.composite_avx512(&half, &at, (n - lo).min(LANES), buf, d) }
+        }
     }
 }
 
@@ -281,6 +314,30 @@ impl Shade for PreintTable {
         }
         composite_lanes(self, f, at, n, buf, d)
     }
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn composite_wide(
+        &self,
+        f: &WideLanes,
+        at: &[usize; WIDE_LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        if x86::fits(self) {
+            // SAFETY: the CPU has AVX-512F and VL (the caller's promise) and the table fits.
+            unsafe { x86::composite_pre_wide(self, f, at, n, buf, d) };
+            return;
+        }
+        for lo in [0, LANES] {
+            if n <= lo {
+                break;
+            }
+            let half: Lanes = std::array::from_fn(|k| std::array::from_fn(|i| f[k][lo + i]));
+            let at: [usize; LANES] = std::array::from_fn(|i| at[lo + i]);
+            composite_lanes(self, &half, &at, (n - lo).min(LANES), buf, d);
+        }
+    }
 }
 
 /// The pre-integrated lookup and composite in explicit AVX2: a fragment's entries `if_` and
@@ -289,7 +346,7 @@ impl Shade for PreintTable {
 /// operation is the scalar path's, in its order, on the same operands: the same bits.
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::{Drawn, Lanes, LANES, OPAQUE};
+    use super::{Drawn, Lanes, WideLanes, LANES, OPAQUE, WIDE_LANES};
     use crate::render::integrate::PreintTable;
     use std::arch::x86_64::*;
 
@@ -418,23 +475,62 @@ mod x86 {
     ) {
         // SAFETY: the caller's promise (AVX2).
         let w = unsafe { weights(t, f) };
+        // SAFETY: the caller's promises; `w` is `weights` of `f`.
+        unsafe { pairs(t, &w, f, at, n, buf, d) }
+    }
+
+    /// [`composite_pre_pairs`] for the [`WIDE_LANES`] lanes of the AVX-512 rasterizer's batch:
+    /// the weights of all sixteen from one 512-bit register each.
+    ///
+    /// # Safety
+    /// The CPU has AVX2, AVX-512F and AVX-512VL, and [`fits`] holds for `t`.
+    #[inline(always)]
+    pub(super) unsafe fn composite_pre_wide(
+        t: &PreintTable,
+        f: &WideLanes,
+        at: &[usize; WIDE_LANES],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
+        // SAFETY: the caller's promise (AVX-512F).
+        let w = unsafe { weights_wide(t, f) };
+        // SAFETY: the caller's promises; `w` is `weights_wide` of `f`.
+        unsafe { pairs(t, &w, f, at, n, buf, d) }
+    }
+
+    /// The pixel loop of [`composite_pre_pairs`] over `L` lanes (8 or 16) with weights `w`
+    /// of `f`.
+    ///
+    /// # Safety
+    /// As [`composite_pre_pairs`]; `w` holds the weights of `f`.
+    #[inline(always)]
+    unsafe fn pairs<const L: usize>(
+        t: &PreintTable,
+        w: &Weights<L>,
+        f: &[[f32; L]; 3],
+        at: &[usize; L],
+        n: usize,
+        buf: &mut [[f32; 4]],
+        d: &mut Drawn,
+    ) {
         let out = buf.as_mut_ptr();
         // The lanes that take a fragment: in the tile (always) and not yet opaque.
         let mut todo = 0u32;
-        for (i, &a) in at.iter().enumerate().take(n.min(LANES)) {
+        for (i, &a) in at.iter().enumerate().take(n.min(L)) {
             // `!(alpha >= OPAQUE)`: NaN takes fragments too, as the scalar path.
             if buf.get(a).is_some_and(|s| !(s[3] >= OPAQUE)) {
                 todo |= 1 << i;
             }
         }
         let mut counts = 0u64;
-        let mut pairs = todo & !(w.long as u32);
+        let mut twos = todo & !(w.long as u32);
         let (data, o1, o2) = (w.data, w.o1, w.o2);
-        while pairs.count_ones() >= 2 {
-            let i = pairs.trailing_zeros() as usize;
-            pairs &= pairs - 1;
-            let j = pairs.trailing_zeros() as usize;
-            pairs &= pairs - 1;
+        while twos.count_ones() >= 2 {
+            let i = twos.trailing_zeros() as usize;
+            twos &= twos - 1;
+            let j = twos.trailing_zeros() as usize;
+            twos &= twos - 1;
             // SAFETY: the CPU has AVX-512F and VL (the caller's promise). Both bases are in
             // the table as in [`entry`], so every 32-byte read from `q + o` lies in it; `at[i]`
             // and `at[j]` are distinct pixels inside `buf` (checked above).
@@ -446,7 +542,7 @@ mod x86 {
                     let hi = _mm256_castps_pd(_mm256_loadu_ps(qj.add(o).cast()));
                     _mm512_castpd_ps(_mm512_insertf64x4::<1>(_mm512_castps_pd(lo), hi))
                 };
-                let two = |v: &[f32; LANES]| {
+                let two = |v: &[f32; L]| {
                     _mm512_mask_broadcastss_ps(_mm512_set1_ps(v[i]), 0xff00, _mm_set_ss(v[j]))
                 };
                 let (tb, tl) = (two(&w.wb), two(&w.wl));
@@ -471,14 +567,14 @@ mod x86 {
             }
         }
         // Long lanes and an odd one left: one at a time.
-        let mut single = (todo & w.long as u32) | pairs;
+        let mut single = (todo & w.long as u32) | twos;
         while single != 0 {
             let i = single.trailing_zeros() as usize;
             single &= single - 1;
             // SAFETY: `at[i]` is inside `buf` (checked above); the caller's promises.
             unsafe {
                 let p = out.add(at[i]);
-                counts += over(p, *p, entry(t, &w, f, i));
+                counts += over(p, *p, entry(t, w, f, i));
             }
         }
         d.frags += counts & 0xffff_ffff;
@@ -488,17 +584,17 @@ mod x86 {
     /// Table corner bases and weights of [`LANES`] lookups, as `PreintTable::prep` computes
     /// them, in registers (calling `prep` here, with its `usize` bases, made 200k-tet frames'
     /// tiles 13 % slower); bit `i` of `long` marks a lane past the length axis.
-    struct Weights {
+    struct Weights<const L: usize> {
         /// The table's entries and the offsets of the next Sb and l, read from the table
         /// once per batch rather than in the pixel loop, where a store to a pixel could make
         /// the compiler read them again.
         data: *const [f32; 4],
         o1: usize,
         o2: usize,
-        bases: [i32; LANES],
-        wf: [f32; LANES],
-        wb: [f32; LANES],
-        wl: [f32; LANES],
+        bases: [i32; L],
+        wf: [f32; L],
+        wb: [f32; L],
+        wl: [f32; L],
         long: i32,
     }
 
@@ -507,7 +603,7 @@ mod x86 {
     /// # Safety
     /// The CPU has AVX2.
     #[inline(always)]
-    unsafe fn weights(t: &PreintTable, f: &Lanes) -> Weights {
+    unsafe fn weights(t: &PreintTable, f: &Lanes) -> Weights<LANES> {
         let load = |v: &[f32; LANES]| {
             // SAFETY: `v` holds 8 floats, and the CPU has AVX (implied by AVX2, which this
             // closure's caller promises).
@@ -554,13 +650,74 @@ mod x86 {
         w
     }
 
+    /// [`weights`] of [`WIDE_LANES`] fragments in AVX-512: the same operations on each lane,
+    /// so the same bits.
+    ///
+    /// # Safety
+    /// The CPU has AVX-512F.
+    #[inline(always)]
+    unsafe fn weights_wide(t: &PreintTable, f: &WideLanes) -> Weights<WIDE_LANES> {
+        let load = |v: &[f32; WIDE_LANES]| {
+            // SAFETY: `v` holds 16 floats, and the CPU has AVX-512F (this closure's caller's
+            // promise).
+            unsafe { _mm512_loadu_ps(v.as_ptr()) }
+        };
+        // `clamp0` in 512 bits: NaN lanes become +0 (as the AND with the ordered mask).
+        let clamp0 = |x: __m512, hi: __m512| {
+            let ord = _mm512_cmp_ps_mask::<_CMP_ORD_Q>(x, x);
+            _mm512_min_ps(hi, _mm512_maskz_max_ps(ord, _mm512_setzero_ps(), x))
+        };
+        let (sf, sb, l) = (load(&f[0]), load(&f[1]), load(&f[2]));
+        let s0 = _mm512_set1_ps(t.s0);
+        let inv_ds = _mm512_set1_ps(t.inv_ds);
+        let top = _mm512_set1_ps((t.ns - 1) as f32);
+        let xf = clamp0(_mm512_mul_ps(_mm512_sub_ps(sf, s0), inv_ds), top);
+        let xb = clamp0(_mm512_mul_ps(_mm512_sub_ps(sb, s0), inv_ds), top);
+        let ql = _mm512_mul_ps(l, _mm512_set1_ps(t.inv_dl));
+        let ltop = _mm512_set1_ps((t.nl - 1) as f32);
+        let long = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(ql, ltop) as i32;
+        let xl = clamp0(ql, ltop);
+        let (ns, nl) = (t.ns as i32, t.nl as i32);
+        let a = _mm512_min_epi32(_mm512_cvttps_epi32(xf), _mm512_set1_epi32(ns - 2));
+        let b = _mm512_min_epi32(_mm512_cvttps_epi32(xb), _mm512_set1_epi32(ns - 2));
+        let c = _mm512_min_epi32(_mm512_cvttps_epi32(xl), _mm512_set1_epi32(nl - 2));
+        let nsv = _mm512_set1_epi32(ns);
+        let base = _mm512_add_epi32(
+            _mm512_mullo_epi32(_mm512_add_epi32(_mm512_mullo_epi32(c, nsv), b), nsv),
+            a,
+        );
+        let mut w = Weights {
+            data: t.data.as_ptr(),
+            o1: t.ns,
+            o2: t.ns * t.ns,
+            bases: [0; WIDE_LANES],
+            wf: [0.0; WIDE_LANES],
+            wb: [0.0; WIDE_LANES],
+            wl: [0.0; WIDE_LANES],
+            long,
+        };
+        // SAFETY: `bases` holds 16 `i32`, each weight array 16 floats.
+        unsafe {
+            _mm512_storeu_si512(w.bases.as_mut_ptr().cast(), base);
+            _mm512_storeu_ps(w.wf.as_mut_ptr(), _mm512_sub_ps(xf, _mm512_cvtepi32_ps(a)));
+            _mm512_storeu_ps(w.wb.as_mut_ptr(), _mm512_sub_ps(xb, _mm512_cvtepi32_ps(b)));
+            _mm512_storeu_ps(w.wl.as_mut_ptr(), _mm512_sub_ps(xl, _mm512_cvtepi32_ps(c)));
+        }
+        w
+    }
+
     /// Colour and opacity (premultiplied) of lane `i`: its table entry, or
     /// `PreintTable::segment` for a long lane.
     ///
     /// # Safety
     /// The CPU has AVX2, and [`fits`] holds for `t`; `w` is [`weights`] of `f`.
     #[inline(always)]
-    unsafe fn entry(t: &PreintTable, w: &Weights, f: &Lanes, i: usize) -> __m128 {
+    unsafe fn entry<const L: usize>(
+        t: &PreintTable,
+        w: &Weights<L>,
+        f: &[[f32; L]; 3],
+        i: usize,
+    ) -> __m128 {
         if w.long >> i & 1 != 0 {
             // SAFETY: 16 bytes.
             return unsafe { _mm_loadu_ps(t.segment(f[0][i], f[1][i], f[2][i]).as_ptr()) };
