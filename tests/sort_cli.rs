@@ -301,11 +301,85 @@ from vtk.util import numpy_support as ns
 r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update()
 g = r.GetOutput(); cd = g.GetCellData()
 o = ns.vtk_to_numpy(cd.GetArray("visibility_order"))
-print(g.GetNumberOfCells(), int((sorted(o) == list(range(len(o))))), int(cd.GetArray("layer") is not None), int(cd.GetArray("leaf_id") is not None), int(ns.vtk_to_numpy(cd.GetArray("leaf_id")).max()))
+cam = g.GetFieldData().GetArray("visibility_camera")
+print(g.GetNumberOfCells(), int((sorted(o) == list(range(len(o))))), int(cd.GetArray("layer") is not None), int(cd.GetArray("leaf_id") is not None), int(ns.vtk_to_numpy(cd.GetArray("leaf_id")).max()), cam.GetNumberOfComponents(), cam.GetNumberOfTuples(), int(cam.GetComponent(0, 0) == 3.5))
 "#;
     let got = common::vtk_python(code, &[out.to_str().unwrap()]);
     let f: Vec<u64> = got.split_whitespace().map(|x| x.parse().unwrap()).collect();
-    assert_eq!(f, vec![n, 1, 1, 1, 3], "{got}");
+    assert_eq!(f, vec![n, 1, 1, 1, 3, 12, 1, 1], "{got}");
+}
+
+/// `sort` stores its camera in field data (`visibility_camera`): `check-order` on the sorted
+/// file checks that view without camera options (it checked VTK's default view before, where
+/// the order need not hold), says when other options ask for another view, and names the array
+/// when it is malformed.
+#[test]
+fn check_order_checks_the_view_the_file_was_sorted_for() {
+    let dir = tempdir();
+    for ext in ["vtu", "vtk"] {
+        let out = dir.path().join(format!("ordered.{ext}"));
+        tetkit([
+            "sort",
+            fixture("gmsh/block_hole.vtk").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--azimuth=130",
+            "--elevation=-35",
+        ])
+        .assert_success();
+        let check = |cam: &[&str]| {
+            let mut args = vec![
+                "check-order",
+                out.to_str().unwrap(),
+                "--rays=3600",
+                "--json",
+            ];
+            args.extend_from_slice(cam);
+            let r = tetkit(&args);
+            r.assert_success();
+            let j = json(&r);
+            (j["report"]["violations"].as_u64().unwrap(), r.stderr)
+        };
+        let (v, err) = check(&[]);
+        assert_eq!(v, 0, "{ext}: {err}");
+        assert!(
+            err.contains("was sorted for (field visibility_camera)"),
+            "{err}"
+        );
+        // The same view given explicitly: no note.
+        let (v, err) = check(&["--azimuth=130", "--elevation=-35"]);
+        assert_eq!(v, 0, "{ext}: {err}");
+        assert!(!err.contains("visibility_camera"), "{err}");
+        // VTK's default view, which the file's order is not for: the checker says so, and the
+        // back-to-front order of a view from behind and below fails there.
+        let (v, err) = check(&["--azimuth=0"]);
+        assert!(err.contains("sorted for another camera"), "{err}");
+        assert!(
+            v > 0,
+            "{ext}: the order of another view checked clean: {err}"
+        );
+    }
+    // A malformed camera array is an error naming it, not a silent default view.
+    let path = dir.path().join("ordered.vtu");
+    let mut g = tetkit::formats::read(&path).unwrap();
+    for a in g.field_data.iter_mut() {
+        if a.name == "visibility_camera" {
+            *a = tetkit::formats::DataArray::new(
+                "visibility_camera",
+                1,
+                tetkit::formats::ArrayData::Float64(vec![1.0; 5]),
+            );
+        }
+    }
+    let bad = dir.path().join("bad.vtu");
+    tetkit::formats::write(&bad, &g, &Default::default()).unwrap();
+    let r = tetkit(["check-order", bad.to_str().unwrap(), "--rays=100"]);
+    assert!(!r.success(), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("bad.vtu") && r.stderr.contains("visibility_camera has 5 values"),
+        "{}",
+        r.stderr
+    );
 }
 
 /// Gmsh's transfinite hex grid at the default camera, whose eye lies on the grid's symmetry

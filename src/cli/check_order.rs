@@ -5,7 +5,7 @@ use clap::Args;
 use std::path::PathBuf;
 
 use super::camera_args::CameraArgs;
-use super::sort::{load, FIELD_FRONT_TO_BACK};
+use super::sort::{load, stored_camera, FIELD_CAMERA, FIELD_FRONT_TO_BACK};
 use crate::sort::check::check_order;
 use crate::sort::{Direction, Method, Sorter};
 
@@ -46,7 +46,7 @@ fn parse_rays(s: &str) -> Result<u64, String> {
 
 pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
     let (grid, mesh, tree) = load(&args.input)?;
-    let cam = args
+    let mut cam = args
         .camera
         .camera(&mesh.bounds())
         .with_context(|| format!("{}", args.input.display()))?;
@@ -82,6 +82,26 @@ pub fn run(args: &CheckOrderArgs) -> anyhow::Result<()> {
                 }
                 seen[v as usize] = true;
                 rank.push(v as u32);
+            }
+            // The order is for the camera `sort` stored: check that view unless another is
+            // asked for (an order checked in a view it was not sorted for has violations).
+            let stored = stored_camera(&grid)
+                .with_context(|| format!("{}: field data", args.input.display()))?;
+            match stored {
+                Some(c) if args.camera == CameraArgs::default() => {
+                    eprintln!(
+                        "tetkit: note: checking the view {}'s visibility_order was sorted for (field {FIELD_CAMERA}); camera options check another",
+                        args.input.display()
+                    );
+                    cam = c;
+                }
+                Some(c) if c != cam => eprintln!(
+                    "tetkit: note: {}'s visibility_order was sorted for another camera (field {FIELD_CAMERA}: position {:?}, focal point {:?}); checking the view given, where it need not hold",
+                    args.input.display(),
+                    c.position,
+                    c.focal
+                ),
+                _ => {}
             }
             let ftb = grid
                 .field_data

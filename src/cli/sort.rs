@@ -6,12 +6,65 @@ use formats::{ArrayData, DataArray, WriteOptions};
 use std::path::PathBuf;
 
 use super::camera_args::CameraArgs;
+use crate::camera::Camera;
 use crate::mesh::TetMesh;
 use crate::partition::KdTree;
 use crate::sort::{Direction, Method, Order, Sorter};
 
 /// Field data array saying which way `visibility_order` runs (1: front to back).
 pub const FIELD_FRONT_TO_BACK: &str = "visibility_front_to_back";
+
+/// Field data array holding the camera `visibility_order` was sorted for: one tuple of 12
+/// components, position (3), focal point (3), view-up (3), view angle, parallel (0 or 1) and
+/// parallel scale, so `check-order` checks the view the order is for.
+pub const FIELD_CAMERA: &str = "visibility_camera";
+
+/// The camera of [`FIELD_CAMERA`] as field data.
+fn camera_array(cam: &Camera) -> DataArray {
+    let mut v = Vec::with_capacity(12);
+    v.extend_from_slice(&cam.position);
+    v.extend_from_slice(&cam.focal);
+    v.extend_from_slice(&cam.up);
+    v.extend([
+        cam.view_angle,
+        cam.parallel as i32 as f64,
+        cam.parallel_scale,
+    ]);
+    DataArray::new(FIELD_CAMERA, 12, ArrayData::Float64(v))
+}
+
+/// The camera a sorted file stores in [`FIELD_CAMERA`]: `None` when it has none, an error
+/// naming what is wrong when the array is not one.
+pub fn stored_camera(grid: &formats::Grid) -> anyhow::Result<Option<Camera>> {
+    let Some(a) = grid.field_data.iter().find(|f| f.name == FIELD_CAMERA) else {
+        return Ok(None);
+    };
+    if a.data.len() != 12 {
+        anyhow::bail!(
+            "field array {FIELD_CAMERA} has {} values, expected 12 (position, focal point, view-up, view angle, parallel, parallel scale)",
+            a.data.len()
+        );
+    }
+    let v: Vec<f64> = (0..12).map(|i| a.data.get_f64(i)).collect();
+    if v.iter().any(|x| !x.is_finite()) {
+        anyhow::bail!("field array {FIELD_CAMERA} holds a value that is not finite: {v:?}");
+    }
+    if !(v[9] > 0.0 && v[9] < 180.0) || v[11] <= 0.0 {
+        anyhow::bail!(
+            "field array {FIELD_CAMERA}: view angle {} must be in (0, 180) and parallel scale {} positive",
+            v[9],
+            v[11]
+        );
+    }
+    Ok(Some(Camera {
+        position: [v[0], v[1], v[2]],
+        focal: [v[3], v[4], v[5]],
+        up: [v[6], v[7], v[8]],
+        view_angle: v[9],
+        parallel: v[10] != 0.0,
+        parallel_scale: v[11],
+    }))
+}
 
 #[derive(Args, Debug)]
 pub struct SortArgs {
@@ -75,8 +128,9 @@ pub fn load(input: &std::path::Path) -> anyhow::Result<(formats::Grid, TetMesh, 
     Ok((grid, mesh, tree))
 }
 
-/// Adds `visibility_order` (rank of each tet in drawing order), `layer` and `leaf_id`.
-pub fn annotate(grid: &mut formats::Grid, order: &Order, dir: Direction) {
+/// Adds `visibility_order` (rank of each tet in drawing order), `layer` and `leaf_id`, and the
+/// direction and camera as field data.
+pub fn annotate(grid: &mut formats::Grid, order: &Order, dir: Direction, cam: &Camera) {
     let to_i32 = |v: &[u32]| ArrayData::Int32(v.iter().map(|&x| x as i32).collect());
     grid.cell_data.insert(DataArray::new(
         "visibility_order",
@@ -87,12 +141,14 @@ pub fn annotate(grid: &mut formats::Grid, order: &Order, dir: Direction) {
         .insert(DataArray::new("layer", 1, to_i32(&order.layer)));
     grid.cell_data
         .insert(DataArray::new("leaf_id", 1, to_i32(&order.leaf)));
-    grid.field_data.retain(|a| a.name != FIELD_FRONT_TO_BACK);
+    grid.field_data
+        .retain(|a| a.name != FIELD_FRONT_TO_BACK && a.name != FIELD_CAMERA);
     grid.field_data.push(DataArray::new(
         FIELD_FRONT_TO_BACK,
         1,
         ArrayData::Int32(vec![(dir == Direction::FrontToBack) as i32]),
     ));
+    grid.field_data.push(camera_array(cam));
 }
 
 pub fn run(args: &SortArgs) -> anyhow::Result<()> {
@@ -110,7 +166,7 @@ pub fn run(args: &SortArgs) -> anyhow::Result<()> {
     note_nonmanifold(&sorter);
     let setup = t0.elapsed().as_secs_f64();
     let order = sorter.order(&cam, args.method, args.direction);
-    annotate(&mut grid, &order, args.direction);
+    annotate(&mut grid, &order, args.direction, &cam);
     formats::write(&args.output, &grid, &WriteOptions::default())?;
     let s = &order.stats;
     if s.tets_outside_leaf > 0 {
