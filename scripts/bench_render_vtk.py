@@ -115,6 +115,8 @@ def vtk_time(ug, kind, frames, size, unit_distance):
     win.AddRenderer(ren)
     ren.ResetCamera()
     cam = ren.GetActiveCamera()
+    # tetkit's --orbit turns about the view-up before elevation (a turntable): the same here.
+    up0 = cam.GetViewUp()
     cam.Azimuth(30)
     cam.Elevation(20)
     cam.OrthogonalizeViewUp()
@@ -127,7 +129,13 @@ def vtk_time(ug, kind, frames, size, unit_distance):
         sys.exit(f"VTK window is {win.GetSize()}, not {size}x{size}")
     times = []
     for _ in range(frames):
-        cam.Azimuth(2)
+        fp = cam.GetFocalPoint()
+        turn = vtk.vtkTransform()
+        turn.Translate(*fp)
+        turn.RotateWXYZ(2, *up0)
+        turn.Translate(*[-x for x in fp])
+        cam.SetPosition(turn.TransformPoint(cam.GetPosition()))
+        cam.SetViewUp(turn.TransformVector(cam.GetViewUp()))
         ren.ResetCameraClippingRange()
         t0 = time.perf_counter()
         win.Render()

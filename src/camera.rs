@@ -119,6 +119,16 @@ impl Camera {
         self.position = [0, 1, 2].map(|k| self.focal[k] + r[k]);
     }
 
+    /// Turns the camera rigidly (position and view-up) by `deg` degrees about `axis` through
+    /// the focal point: what `--orbit` does between frames.
+    pub fn turn(&mut self, axis: &[f64; 3], deg: f64) {
+        let axis = normalize(axis);
+        let rel = sub(&self.position, &self.focal);
+        let r = rotate(&rel, &axis, deg);
+        self.position = [0, 1, 2].map(|k| self.focal[k] + r[k]);
+        self.up = rotate(&self.up, &axis, deg);
+    }
+
     /// Rotates the position about the camera's left axis through the focal point, so positive
     /// angles look from above (vtkCamera::Elevation, followed by OrthogonalizeViewUp as ParaView
     /// does).

@@ -250,6 +250,81 @@ impl ArrayData {
         })
     }
 
+    /// The values converted to type `ty` (as VTK converts a piece's array to the type its
+    /// parallel file declares), and whether every value came through unchanged. Integers go
+    /// between integer types exactly where they fit (saturating where not); anything involving a
+    /// float goes through f64, rounded to the nearest integer for an integer target. Strings
+    /// stay strings (`None` for them).
+    pub fn converted(&self, ty: ScalarType) -> Option<(ArrayData, bool)> {
+        fn ints(d: &ArrayData) -> Option<Vec<i128>> {
+            Some(match d {
+                ArrayData::Int8(v) => v.iter().map(|&x| x as i128).collect(),
+                ArrayData::UInt8(v) => v.iter().map(|&x| x as i128).collect(),
+                ArrayData::Int16(v) => v.iter().map(|&x| x as i128).collect(),
+                ArrayData::UInt16(v) => v.iter().map(|&x| x as i128).collect(),
+                ArrayData::Int32(v) => v.iter().map(|&x| x as i128).collect(),
+                ArrayData::UInt32(v) => v.iter().map(|&x| x as i128).collect(),
+                ArrayData::Int64(v) => v.iter().map(|&x| x as i128).collect(),
+                ArrayData::UInt64(v) => v.iter().map(|&x| x as i128).collect(),
+                _ => return None,
+            })
+        }
+        if self.scalar_type()? == ty {
+            return Some((self.clone(), true));
+        }
+        let mut exact = true;
+        macro_rules! from_ints {
+            ($v:expr, $t:ty, $var:ident) => {{
+                let out: Vec<$t> = $v
+                    .iter()
+                    .map(|&x| {
+                        <$t>::try_from(x).unwrap_or_else(|_| {
+                            exact = false;
+                            if x < 0 {
+                                <$t>::MIN
+                            } else {
+                                <$t>::MAX
+                            }
+                        })
+                    })
+                    .collect();
+                ArrayData::$var(out)
+            }};
+        }
+        let out = match (ints(self), ty.is_float()) {
+            (Some(v), false) => match ty {
+                ScalarType::Int8 => from_ints!(v, i8, Int8),
+                ScalarType::UInt8 => from_ints!(v, u8, UInt8),
+                ScalarType::Int16 => from_ints!(v, i16, Int16),
+                ScalarType::UInt16 => from_ints!(v, u16, UInt16),
+                ScalarType::Int32 => from_ints!(v, i32, Int32),
+                ScalarType::UInt32 => from_ints!(v, u32, UInt32),
+                ScalarType::Int64 => from_ints!(v, i64, Int64),
+                _ => from_ints!(v, u64, UInt64),
+            },
+            (source_ints, _) => {
+                let v = self.to_f64_vec();
+                let mut out = ArrayData::with_capacity(ty, v.len());
+                with_numeric!(&mut out, o => {
+                    for (i, &x) in v.iter().enumerate() {
+                        let y = Element::from_f64(x);
+                        let back = Element::to_f64(y);
+                        // An integer source is compared as the integer it is (f64 cannot hold
+                        // every 64-bit one), a float one as its value.
+                        let same = match &source_ints {
+                            Some(n) => back as i128 == n[i] && back.fract() == 0.0,
+                            None => back == x || (back.is_nan() && x.is_nan()),
+                        };
+                        exact &= same;
+                        o.push(y);
+                    }
+                }, _s => {});
+                out
+            }
+        };
+        Some((out, exact))
+    }
+
     /// Value `i` as f64 (NaN for strings).
     pub fn get_f64(&self, i: usize) -> f64 {
         with_numeric!(self, v => v[i].to_f64(), _s => f64::NAN)
@@ -1209,6 +1284,37 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn conversion_keeps_what_fits_and_says_when_a_value_changed() {
+        let f = ArrayData::Float32(vec![0.25, -3.5, f32::NAN]);
+        let (g, exact) = f.converted(ScalarType::Float64).unwrap();
+        assert!(exact);
+        assert_eq!(g.get_f64(1), -3.5);
+        assert!(g.get_f64(2).is_nan());
+        let (g, exact) = ArrayData::Int64(vec![7, -(1 << 40)])
+            .converted(ScalarType::Int32)
+            .unwrap();
+        assert!(!exact);
+        assert!(matches!(g, ArrayData::Int32(ref v) if v == &[7, i32::MIN]));
+        let (g, exact) = ArrayData::UInt32(vec![u32::MAX])
+            .converted(ScalarType::Int64)
+            .unwrap();
+        assert!(exact);
+        assert_eq!(g.get_f64(0), u32::MAX as f64);
+        let (_, exact) = ArrayData::UInt64(vec![u64::MAX])
+            .converted(ScalarType::Float64)
+            .unwrap();
+        assert!(!exact, "u64::MAX does not survive f64");
+        let (g, exact) = ArrayData::Float64(vec![2.5, 1e300])
+            .converted(ScalarType::Int16)
+            .unwrap();
+        assert!(!exact);
+        assert!(matches!(g, ArrayData::Int16(ref v) if v == &[3, i16::MAX]));
+        assert!(ArrayData::String(vec!["a".into()])
+            .converted(ScalarType::Int8)
+            .is_none());
+    }
 
     fn arr(name: &str, data: ArrayData) -> DataArray {
         DataArray::new(name, 1, data)

@@ -168,8 +168,9 @@ pub struct RenderArgs {
     /// pre-integration table's lookup as VTK's ray caster does (faster, approximate).
     #[arg(long, value_enum, default_value = "exact")]
     pub ray_integration: RayIntegration,
-    /// Render N frames turning about the focal point (azimuth 360/N each), reusing adjacency,
-    /// grid and tables.
+    /// Render N frames turning about the focal point like a turntable (azimuth 360/N each,
+    /// about the view-up before --elevation and --roll, so frame i is the single render at
+    /// --azimuth plus i steps), reusing adjacency, grid and tables.
     #[arg(long, value_name = "N")]
     pub orbit: Option<usize>,
     /// Degrees between orbit frames (default 360/N; needs --orbit).
@@ -525,11 +526,24 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         s.shift_scalars(session.scalar_offset, session.scalar_scale);
     }
     progress.step("read");
-    let cam0 = match &scene {
-        Some(s) => session.bounds_camera(&super::render_scene::camera_args(&args.camera, s)),
-        None => session.bounds_camera(&args.camera),
-    }
-    .with_context(|| format!("{}", args.input.display()))?;
+    let cam_args = match &scene {
+        Some(s) => super::render_scene::camera_args(&args.camera, s),
+        None => args.camera.clone(),
+    };
+    let cam0 = session
+        .bounds_camera(&cam_args)
+        .with_context(|| format!("{}", args.input.display()))?;
+    // The orbit turns about the view-up as it was before --elevation and --roll tilted it, so
+    // frame i is the single render at azimuth + i step (a turntable, not a tumble).
+    let level = CameraArgs {
+        elevation: None,
+        roll: None,
+        ..cam_args
+    };
+    let step = Orbit {
+        step,
+        axis: session.bounds_camera(&level).map_or(cam0.up, |c| c.up),
+    };
     // Bodies take their own path; a scene without bodies renders exactly as no scene.
     if let Some(s) = scene.as_ref().filter(|s| !s.bodies.is_empty()) {
         if super::render_device::scene_gpu(args, &session, s, cam0, step)? {
@@ -572,7 +586,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             }
             let cpu_frames = if gpu.is_some() { 0 } else { frames };
             for i in 0..cpu_frames {
-                let cam = orbit_camera(&cam0, step, i);
+                let cam = orbit_camera(&cam0, &step, i);
                 let t = Instant::now();
                 let (order, sort_s) =
                     order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
@@ -633,7 +647,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 l.depth
             ));
             for i in 0..frames {
-                let cam = orbit_camera(&cam0, step, i);
+                let cam = orbit_camera(&cam0, &step, i);
                 let t = Instant::now();
                 let (img, st) = match &table {
                     None => rc.render(&session.tf, &cam, w, h),
@@ -668,10 +682,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// Frame `i` of an orbit: `cam0` turned `step * i` degrees about the focal point.
-pub fn orbit_camera(cam0: &Camera, step: f64, i: usize) -> Camera {
+/// How `--orbit` turns the camera from frame to frame.
+#[derive(Clone, Copy, Debug)]
+pub struct Orbit {
+    /// Degrees a frame.
+    pub step: f64,
+    /// The axis through the focal point it turns about: the view-up before elevation and roll.
+    pub axis: [f64; 3],
+}
+
+/// Frame `i` of an orbit: `cam0` turned `step * i` degrees about the orbit's axis through the
+/// focal point, position and view-up together.
+pub fn orbit_camera(cam0: &Camera, orbit: &Orbit, i: usize) -> Camera {
     let mut cam = *cam0;
-    cam.azimuth(step * i as f64);
+    cam.turn(&orbit.axis, orbit.step * i as f64);
     cam
 }
 

@@ -61,7 +61,7 @@ pub struct GpuFrames<'a> {
     pub ntets: usize,
     pub sort: SortChoice,
     pub cam0: Camera,
-    pub step: f64,
+    pub step: super::render::Orbit,
     pub frames: usize,
     pub size: (u32, u32),
     pub background: [f32; 3],
@@ -75,7 +75,7 @@ pub fn scene_gpu(
     session: &Session,
     scene: &Scene,
     cam0: Camera,
-    step: f64,
+    step: super::render::Orbit,
 ) -> Result<bool> {
     let look = &args.look;
     match (args.device, args.method) {
@@ -115,7 +115,7 @@ pub fn scene_gpu(
     ];
     let mut reports = Vec::new();
     for i in 0..frames {
-        let cam = super::render::orbit_camera(&cam0, step, i);
+        let cam = super::render::orbit_camera(&cam0, &step, i);
         let t = Instant::now();
         let (order, sort_s) = order_for(sorter.as_ref(), m.tets.len(), &cam, args.sort);
         let view = View::new(&cam, w, h);
@@ -164,7 +164,7 @@ pub fn gpu_frames(
     let mut lines = vec![format!("GPU: {}", gpu.context().describe())];
     let mut frame_times = Vec::new();
     for i in 0..job.frames {
-        let cam = super::render::orbit_camera(&job.cam0, job.step, i);
+        let cam = super::render::orbit_camera(&job.cam0, &job.step, i);
         let t = Instant::now();
         let (order, sort_s) = order_for(job.sorter, job.ntets, &cam, job.sort);
         let view = View::new(&cam, job.size.0, job.size.1);

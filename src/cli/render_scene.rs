@@ -39,7 +39,7 @@ pub fn run(
     session: &Session,
     scene: &Scene,
     cam0: Camera,
-    step: f64,
+    step: super::render::Orbit,
     mut progress: Progress,
 ) -> Result<()> {
     let look = &args.look;
@@ -80,7 +80,7 @@ pub fn run(
             ));
             progress.step("setup");
             for i in 0..frames {
-                let cam = orbit_camera(&cam0, step, i);
+                let cam = orbit_camera(&cam0, &step, i);
                 let t = Instant::now();
                 let (order, sort_s) =
                     order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
@@ -133,7 +133,7 @@ pub fn run(
             ));
             progress.step("setup");
             for i in 0..frames {
-                let cam = orbit_camera(&cam0, step, i);
+                let cam = orbit_camera(&cam0, &step, i);
                 let t = Instant::now();
                 let (img, st, rep) = cut::raycast(&rc, &sl, &cam, w, h);
                 let frame_s = t.elapsed().as_secs_f64();

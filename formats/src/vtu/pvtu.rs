@@ -17,6 +17,8 @@ use std::path::{Path, PathBuf};
 struct Declared {
     name: String,
     components: usize,
+    /// The declared `type`, when it names one: pieces of another type are converted to it.
+    ty: Option<crate::ScalarType>,
 }
 
 /// What a .pvtu says: its pieces' `Source`s in order, and the point and cell arrays it declares
@@ -26,6 +28,8 @@ struct Index {
     sources: Vec<String>,
     point: Vec<Declared>,
     cell: Vec<Declared>,
+    /// The type `<PPoints>` declares for the points.
+    points_ty: Option<crate::ScalarType>,
     /// Parallel structured data: the serial type its pieces are, and each piece's `Extent`.
     structured: Option<(&'static str, Lattice)>,
     extents: Vec<[i64; 6]>,
@@ -47,6 +51,7 @@ enum Section {
     None,
     Point,
     Cell,
+    Points,
 }
 
 fn piece_sources(bytes: &[u8]) -> Result<Index> {
@@ -69,7 +74,10 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
                 "a DOCTYPE declaration is not allowed in a VTK file (refused: entity expansion)",
             )),
             Event::End(e) => {
-                if matches!(e.local_name().as_ref(), b"PPointData" | b"PCellData") {
+                if matches!(
+                    e.local_name().as_ref(),
+                    b"PPointData" | b"PCellData" | b"PPoints"
+                ) {
                     section = Section::None;
                 }
             }
@@ -119,6 +127,7 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
                     }
                     b"PPointData" if !empty => section = Section::Point,
                     b"PCellData" if !empty => section = Section::Cell,
+                    b"PPoints" if !empty => section = Section::Points,
                     b"PDataArray" if section != Section::None => {
                         let name = get(b"Name")?.unwrap_or_default();
                         let components = match get(b"NumberOfComponents")? {
@@ -130,9 +139,17 @@ fn piece_sources(bytes: &[u8]) -> Result<Index> {
                                 )
                             })?,
                         };
-                        let d = Declared { name, components };
+                        let ty = get(b"type")?
+                            .as_deref()
+                            .and_then(crate::ScalarType::from_xml_name);
+                        let d = Declared {
+                            name,
+                            components,
+                            ty,
+                        };
                         match section {
                             Section::Point => index.point.push(d),
+                            Section::Points => index.points_ty = d.ty,
                             _ => index.cell.push(d),
                         }
                     }
@@ -188,7 +205,7 @@ fn declared_only(
                 ),
             ));
         }
-        kept.push(a);
+        kept.push(as_declared(a, d.ty, what, piece, piece_path));
     }
     for a in attrs.arrays.drain(..) {
         match dropped.iter_mut().find(|(n, _)| *n == a.name) {
@@ -203,6 +220,34 @@ fn declared_only(
         .lookup_tables
         .retain(|(n, _)| names.contains(&n.as_str()));
     Ok(())
+}
+
+/// `a` converted to the type the .pvtu declares for it (`ty`), as VTK's reader converts a
+/// piece's array, with a warning when a value changed on the way.
+fn as_declared(
+    mut a: crate::DataArray,
+    ty: Option<crate::ScalarType>,
+    what: &str,
+    piece: usize,
+    piece_path: &Path,
+) -> crate::DataArray {
+    let Some(ty) = ty else { return a };
+    if a.data.scalar_type() == Some(ty) {
+        return a;
+    }
+    if let Some((data, exact)) = a.data.converted(ty) {
+        if !exact {
+            eprintln!(
+                "tetkit: warning: '{}' (piece {piece}): {what} array '{}' is {} but the .pvtu declares {}; converted as VTK does, and some values changed",
+                piece_path.display(),
+                a.name,
+                a.data.type_name(),
+                ty.xml_name()
+            );
+        }
+        a.data = data;
+    }
+    a
 }
 
 fn warn_dropped(path: &Path, what: &str, dropped: &[(String, Vec<usize>)]) {
@@ -289,6 +334,16 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
         )
         .and_then(|()| declared_only(&mut g.cell_data, &index.cell, "cell", i, &p, &mut drop_cell))
         .map_err(|e| e.with_file(path))?;
+        // Points of the declared type too (an empty piece's default Float32 among Float64
+        // pieces, as VTK writes it).
+        let ty = index.points_ty.or_else(|| {
+            grids
+                .first()
+                .and_then(|g: &Grid| g.points.data.scalar_type())
+        });
+        if g.num_points() == 0 || index.points_ty.is_some() {
+            g.points = as_declared(g.points, ty, "points", i, &p);
+        }
         grids.push(g);
     }
     warn_dropped(path, "point", &drop_point);

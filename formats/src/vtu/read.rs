@@ -536,7 +536,12 @@ pub(crate) fn check_faces(
     Ok(())
 }
 
-fn concat(parts: Vec<ArrayData>, what: &str) -> Result<ArrayData> {
+fn concat(mut parts: Vec<ArrayData>, what: &str) -> Result<ArrayData> {
+    // An empty piece holds no values, so its type says nothing (VTK writes an empty piece's
+    // points as Float32 whatever the others are).
+    if parts.iter().any(|p| !p.is_empty()) {
+        parts.retain(|p| !p.is_empty());
+    }
     let mut it = parts.into_iter();
     let mut first = it.next().unwrap_or(ArrayData::Float64(Vec::new()));
     for (i, p) in it.enumerate() {
