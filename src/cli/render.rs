@@ -526,6 +526,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         s.shift_scalars(session.scalar_offset, session.scalar_scale);
     }
     progress.step("read");
+    let uses_table = match args.method {
+        MethodChoice::Pt => args.integration == Integration::Preintegrated,
+        MethodChoice::Raycast => args.ray_integration == RayIntegration::Preintegrated,
+    };
+    if uses_table && scene.as_ref().is_none_or(|s| s.bodies.is_empty()) {
+        if let Some(n) = prepare::table_note(&session.mesh, &session.tf, session.table.scalar) {
+            eprintln!("tetkit: note: {}: {n}", args.input.display());
+        }
+    }
     let cam_args = match &scene {
         Some(s) => super::render_scene::camera_args(&args.camera, s),
         None => args.camera.clone(),
