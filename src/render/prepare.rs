@@ -245,7 +245,7 @@ pub fn table_note(mesh: &TetMesh, tf: &TransferFunction, ns: usize) -> Option<St
     let chord = edge_spread(mesh).map_or(0.0, |s| s.1);
     let intervals = tf.tau.len().saturating_sub(1).max(1);
     let steps = ns.saturating_sub(1).max(1);
-    let aligned = steps % intervals == 0;
+    let aligned = steps.is_multiple_of(intervals);
     let per_step = steepest_depth(tf, chord) * intervals as f64 / steps as f64;
     if !(per_step > 2.0) && aligned {
         return None;
