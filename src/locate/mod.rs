@@ -248,8 +248,18 @@ pub fn entry_hit(
     let e1 = sub(&f[1], &f[0]);
     let e2 = sub(&f[2], &f[0]);
     let mut n = cross(&e1, &e2);
-    // Orient the normal outward (away from the opposite vertex).
-    if dot(&n, &sub(&opp, &f[0])) > 0.0 {
+    // Orient the normal outward (away from the opposite vertex), by the exact sign: next to a
+    // sliver the float dot product is rounding noise, and a flipped normal took the face the
+    // ray leaves by for one it enters by (a new user's clipped grid drew a chord through a tet
+    // the ray does not cross: up to 0.69 off in a dozen pixels). A flat tet has no inside to
+    // enter.
+    let side = crate::geom::orient3d(&f[0], &f[1], &f[2], &opp);
+    if side == 0.0 {
+        return None;
+    }
+    // orient3d is positive when `opp` lies below the plane of (f0, f1, f2), the side
+    // opposite to `n = (f1 - f0) x (f2 - f0)`: then `n` already points away from it.
+    if side < 0.0 {
         n = [-n[0], -n[1], -n[2]];
     }
     let dn = dot(&n, d);
