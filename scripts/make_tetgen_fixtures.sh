@@ -42,4 +42,11 @@ PY
 rm -f "$tmp/cloud.1.edge"
 for f in "$tmp"/cloud.1.* ; do cp "$f" "$out/"; done
 grep -E '^ +Mesh (points|tetrahedra):' "$tmp/cloud.log" >"$out/cloud.log"
+# The unit cube's corners with second-order output and no other switch: TetGen writes 10-node
+# tets but 3-node boundary faces (cube_o2.1.*).
+printf '8 3 0 0\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n' >"$tmp/cube_o2.node"
+(cd "$tmp" && tetgen -o2 cube_o2.node >cube_o2.log)
+rm -f "$tmp/cube_o2.1.edge"
+for f in "$tmp"/cube_o2.1.* ; do cp "$f" "$out/"; done
+grep -E '^ +Mesh (points|tetrahedra):' "$tmp/cube_o2.log" >"$out/cube_o2.log"
 ls -l "$out"

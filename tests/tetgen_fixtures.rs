@@ -336,3 +336,14 @@ fn rewriting_without_faces_removes_stale_face_and_neigh_files() {
     let back = formats::read(&dir.path().join("s.ele")).unwrap();
     assert_eq!(back.num_cells(), nt);
 }
+
+/// `tetgen -o2` without other switches writes 10-node tets but 3-node boundary faces; the
+/// reader expected 6-node faces next to 10-node tets and refused the file ("a face line has 4
+/// fields, expected 7"). The faces' node count now comes from the first face line.
+#[test]
+fn second_order_tets_with_three_node_faces_read() {
+    let g = read("cube_o2");
+    assert_eq!(count(&g, cell_type::QUADRATIC_TETRA), 6);
+    assert_eq!(count(&g, cell_type::TRIANGLE), 12);
+    assert_eq!(g.num_points(), 27);
+}

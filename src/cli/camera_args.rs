@@ -23,7 +23,7 @@ pub struct CameraArgs {
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<[f64; 3]>,
     /// Full vertical view angle in degrees (perspective; default 30, as VTK).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", value_parser = parse_finite)]
     pub view_angle: Option<f64>,
     /// Orthographic (parallel) projection.
     #[arg(long, conflicts_with = "perspective")]
@@ -32,23 +32,34 @@ pub struct CameraArgs {
     #[arg(long)]
     pub perspective: bool,
     /// Half the view height in world units for --parallel (default: fits the bounds).
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", value_parser = parse_finite)]
     pub parallel_scale: Option<f64>,
     /// Rotate the camera about the view-up vector through the focal point (degrees), after the reset.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
     pub azimuth: Option<f64>,
     /// Rotate the camera about its right axis through the focal point (degrees), after azimuth.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
     pub elevation: Option<f64>,
     /// Rotate the view-up vector about the view direction (degrees), after elevation.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
     pub roll: Option<f64>,
     /// Magnify by this factor (narrower view angle, or smaller parallel scale), applied last.
-    #[arg(long, value_name = "FACTOR")]
+    #[arg(long, value_name = "FACTOR", value_parser = parse_finite)]
     pub zoom: Option<f64>,
     /// ParaView saved camera (.pvcc XML); explicit options above override its values.
     #[arg(long, value_name = "VIEW.pvcc")]
     pub camera_file: Option<PathBuf>,
+}
+
+/// Parses one finite number (`nan` and `inf` are refused here, where they would surface later
+/// as a camera "too large for f64").
+pub fn parse_finite(s: &str) -> std::result::Result<f64, String> {
+    let v = s.trim().parse::<f64>().map_err(|e| format!("'{s}': {e}"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("'{s}' is not a finite number"))
+    }
 }
 
 /// Parses `x,y,z` (commas or spaces) into three finite numbers.

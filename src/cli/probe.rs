@@ -137,10 +137,21 @@ impl Sample {
 
     fn to_csv(&self) -> String {
         match self {
-            Sample::Float(x) => x.to_string(),
+            Sample::Float(x) => csv_float(*x),
             Sample::Int(x) => x.to_string(),
             Sample::Text(s) => csv_field(s),
         }
+    }
+}
+
+/// A float as the shortest text that reads back to it, with an exponent where plain digits
+/// would run long (`1e308` printed 309 digits, `1e-30` thirty zeros).
+fn csv_float(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        x.to_string()
     }
 }
 
@@ -302,7 +313,7 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
         out.push_str(&header.join(","));
         out.push('\n');
         for (p, r) in points.iter().zip(&results) {
-            let mut row = vec![p[0].to_string(), p[1].to_string(), p[2].to_string()];
+            let mut row = vec![csv_float(p[0]), csv_float(p[1]), csv_float(p[2])];
             match r {
                 None => {
                     row.push(String::new());

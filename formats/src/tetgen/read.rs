@@ -339,14 +339,20 @@ fn read_face(bytes: &[u8], path: &Path, nodes: Nodes, ele: Eles, grid: &mut Grid
             format!("boundary marker flag {nmark}: must be 0 or 1"),
         ));
     }
-    let corners = if ele.order == 10 { 6 } else { 3 };
-    let base = 1 + corners + nmark;
+    let mut corners = if ele.order == 10 { 6 } else { 3 };
+    let mut base = 1 + corners + nmark;
     let mut conn = Vec::with_capacity(capacity(n, &r, corners));
     let mut marks = Vec::with_capacity(capacity(n, &r, 1));
     let mut first = 0;
     for i in 0..n {
         let line = r.require(&mut t, &format!("face {i} of {n}"))?;
         check_index(&r, &t, line, i, &mut first, "face")?;
+        // `tetgen -o2` writes 10-node tets but 3-node faces: the first line's field count says
+        // which (3 nodes give 4 + markers or 6 + markers fields, 6 nodes 7 + markers or 9 +).
+        if i == 0 && corners == 6 && (t.len() == 4 + nmark || t.len() == 6 + nmark) {
+            corners = 3;
+            base = 1 + corners + nmark;
+        }
         if t.len() != base && t.len() != base + 2 {
             return Err(r.err(line, format!("a face line has {} fields, expected {base} (number, {corners} nodes, {nmark} markers) or {} with adjacent tetrahedra", t.len(), base + 2)));
         }

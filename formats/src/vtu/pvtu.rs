@@ -3,10 +3,10 @@
 //! structured files (.pvti, .pvtr, .pvts) are read the same way, their pieces joined by extent
 //! into one lattice.
 
+use super::write::escape;
 use crate::atomic::write_all_or_none;
 use crate::structured::{self, Lattice};
 use crate::{FormatError, Grid, Result, WriteOptions};
-use quick_xml::escape::escape;
 use quick_xml::events::Event;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -439,7 +439,7 @@ pub fn write(path: &Path, pieces: &[Grid], opts: &WriteOptions) -> Result<()> {
         let _ = writeln!(
             x,
             "    <Piece Source=\"{}\"/>",
-            escape(format!("{stem}/{n}"))
+            escape(&format!("{stem}/{n}"))
         );
     }
     x.push_str("  </PUnstructuredGrid>\n</VTKFile>\n");
