@@ -363,3 +363,40 @@ fn orbit_frames_are_the_single_renders_at_each_azimuth() {
         }
     }
 }
+
+/// `--parallel` draws every ray through the whole mesh, also what lies behind the camera
+/// position (VTK clips at a near plane): a camera looking away from the mesh rendered it whole.
+/// The render says so when part of the mesh is behind the camera, and not otherwise.
+#[test]
+fn parallel_views_say_when_the_mesh_reaches_behind_the_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = fixture("gmsh/block_hole.vtk");
+    let out = dir.path().join("p.png");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            mesh.as_str(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "24x24",
+            "--parallel",
+        ];
+        args.extend_from_slice(extra);
+        let (ok, _, err) = tetkit(&args);
+        assert!(ok, "{err}");
+        err
+    };
+    assert!(!run(&[]).contains("behind the camera"));
+    let err = run(&["--position", "0.5,0.5,0.2", "--focal", "0.5,0.5,-5"]);
+    assert!(err.contains("behind the camera position"), "{err}");
+    let (ok, _, err) = tetkit(&[
+        "render",
+        mesh.as_str(),
+        "-o",
+        out.to_str().unwrap(),
+        "--azimuth",
+        "nan",
+    ]);
+    assert!(!ok && err.contains("not a finite number"), "{err}");
+}

@@ -542,6 +542,24 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let cam0 = session
         .bounds_camera(&cam_args)
         .with_context(|| format!("{}", args.input.display()))?;
+    if cam0.parallel {
+        // Parallel rays are drawn whole, from behind the mesh's box: what lies behind the
+        // camera's position is drawn too, where VTK and ParaView clip at a near plane in front
+        // of the camera (a new user put the eye inside a cavity and saw the whole mesh).
+        let b = session.mesh.bounds();
+        let dir = cam0.direction();
+        let behind = (0..8).any(|k| {
+            let c = [0, 1, 2].map(|a| if k >> a & 1 == 1 { b.max[a] } else { b.min[a] });
+            crate::geom::dot(&crate::geom::sub(&c, &cam0.position), &dir) < 0.0
+        });
+        if behind && !b.is_empty() {
+            eprintln!(
+                "tetkit: note: {}: with --parallel every ray is drawn through the whole mesh, also where it lies behind the camera position {:?} (VTK clips at a near plane in front of the camera); use a perspective view to look from inside",
+                args.input.display(),
+                cam0.position
+            );
+        }
+    }
     // The orbit turns about the view-up as it was before --elevation and --roll tilted it, so
     // frame i is the single render at azimuth + i step (a turntable, not a tumble).
     let level = CameraArgs {
