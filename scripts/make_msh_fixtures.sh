@@ -7,9 +7,9 @@
 #               "hole" and "outside" (surfaces): MSH 4.1 and 2.2, ASCII and binary
 #   mixed_41.msh          a quarter ring swept from a quad-dominant face: hexahedra, prisms (the
 #                         triangles) and pyramids (where a triangle touches the axis)
-#   params_41.msh, params_41_bin.msh
+#   params_41.msh, params_41_bin.msh, params_22.msh
 #                         mixed_41 with parametric coordinates (Mesh.SaveParametric): u on
-#                         curves, u and v on surfaces
+#                         curves, u and v on surfaces (MSH 2.2: a $ParametricNodes section)
 #   mixed_o2_41.msh       the same at order 2 (27-node hexahedra, 18-node prisms, 14-node pyramids)
 #   mixed_o2i_22_bin.msh  order 2 incomplete (20-node hexahedra, 15-node prisms, 13-node
 #                         pyramids), MSH 2.2 binary
@@ -24,6 +24,8 @@
 #                         `-part 2` (MSH 4.1 ASCII and binary: $PartitionedEntities, whose
 #                         interface surface gets its own triangles; MSH 2.2 ASCII: the
 #                         partitions in each element's tags)
+#   multi_group_22.msh    two unit cubes, the first in physical volumes "A" and "B", the second
+#                         in "B": MSH 2.2 writes the first cube's tets once per group
 set -euo pipefail
 out="$(cd "$(dirname "$0")/.." && pwd)/fixtures/msh"
 mkdir -p "$out/gmsh_vtk"
@@ -118,6 +120,7 @@ run mixed mixed_41.msh -format msh41
 run mixed mixed.vtk -format vtk
 run mixed params_41.msh -format msh41 -setnumber Mesh.SaveParametric 1
 run mixed params_41_bin.msh -format msh41 -bin -setnumber Mesh.SaveParametric 1
+run mixed params_22.msh -format msh22 -setnumber Mesh.SaveParametric 1
 vtk mixed.vtk mixed
 run mixed mixed_o2_41.msh -format msh41 -order 2
 run mixed mixed_o2.vtk -format vtk -order 2
@@ -132,9 +135,20 @@ run twobodies twobodies_41.msh -format msh41
 run twobodies twobodies_part_41.msh -format msh41 -part 2
 run twobodies twobodies_part_41_bin.msh -format msh41 -bin -part 2
 run twobodies twobodies_part_22.msh -format msh22 -part 2
+cat >"$work/multi.geo" <<'GEO'
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Box(2) = {1, 0, 0, 1, 1, 1};
+BooleanFragments{ Volume{1, 2}; Delete; }{}
+Mesh.MeshSizeMin = 0.9;
+Mesh.MeshSizeMax = 1.0;
+Physical Volume("A", 1) = {1};
+Physical Volume("B", 2) = {1, 2};
+GEO
+run multi multi_group_22.msh -format msh22
 for f in block_hole_41 block_hole_41_bin block_hole_22 block_hole_22_bin mixed_41 params_41 \
-  params_41_bin mixed_o2_41 mixed_o2i_22_bin tet_o2_41_bin twobodies_41 twobodies_part_41 \
-  twobodies_part_41_bin twobodies_part_22; do
+  params_41_bin params_22 mixed_o2_41 mixed_o2i_22_bin tet_o2_41_bin twobodies_41 twobodies_part_41 \
+  twobodies_part_41_bin twobodies_part_22 multi_group_22; do
   cp "$work/$f.msh" "$out/$f.msh"
 done
 

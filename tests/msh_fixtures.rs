@@ -118,6 +118,32 @@ fn parametric_coordinates_as_gmsh_saves_them() {
     assert_eq!(plain.cells, g.cells);
 }
 
+/// MSH 2.2 keeps parametric coordinates in `$ParametricNodes` instead of `$Nodes`; it was
+/// skipped as unknown and the file refused ("$Elements before the $Nodes section"). It reads
+/// as the MSH 4.1 file of the same mesh does.
+#[test]
+fn parametric_nodes_of_msh_2_2() {
+    let (v2, v4) = (
+        read(&fixture("msh/params_22.msh")),
+        read(&fixture("msh/params_41.msh")),
+    );
+    assert_eq!(v2.num_points(), v4.num_points());
+    assert_eq!(v2.points.data.to_f64_vec(), v4.points.data.to_f64_vec());
+    let p = |g: &Grid| {
+        g.point_data
+            .get("gmsh:parametric")
+            .unwrap()
+            .data
+            .to_f64_vec()
+    };
+    let (a, b) = (p(&v2), p(&v4));
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert!(x == y || (x.is_nan() && y.is_nan()), "{x} vs {y}");
+    }
+    assert_eq!(v2.cells.types, v4.cells.types);
+}
+
 #[test]
 fn physical_groups_and_names() {
     let g = read(&fixture("msh/block_hole_41_bin.msh"));
@@ -450,4 +476,27 @@ fn stdin_is_sniffed_as_msh() {
     assert_eq!(v["points"], 141, "{v}");
     let run = tetkit_stdin(["info", "-"], b"$MeshFormat\n4.0 0 8\n$EndMeshFormat\n");
     run.assert_failure(&["<stdin>: line 2:", "MSH version 4.0"]);
+}
+
+/// MSH 2.2 writes an element once per physical group it is in: the copies stay cells, as Gmsh
+/// reads them back, but the mesh then overlaps itself (a new user's volume counted 3.0 for 2.0),
+/// and nothing said so where the MSH 4.1 reader warns. Now a warning counts the copies.
+#[test]
+fn elements_in_two_physical_groups_are_counted_as_copies() {
+    let path = fixture("msh/multi_group_22.msh");
+    let g = read(&path);
+    assert_eq!(
+        g.cells.types.iter().filter(|&&t| t == ct::TETRA).count(),
+        300
+    );
+    let r = tetkit(["info", path.to_str().unwrap()]);
+    r.assert_success();
+    assert!(
+        r.stderr
+            .contains("100 elements repeat an earlier one's type and nodes"),
+        "{}",
+        r.stderr
+    );
+    let plain = tetkit(["info", fixture("msh/block_hole_22.msh").to_str().unwrap()]);
+    assert!(!plain.stderr.contains("repeat"), "{}", plain.stderr);
 }

@@ -106,6 +106,12 @@ pub fn read_from(bytes: &[u8], path: Option<&Path>) -> Result<Grid> {
                     Version::V2 => read_v2::nodes(&mut c, &mut b)?,
                 }
             }
+            "ParametricNodes" if version == Version::V2 => {
+                if b.nodes_read {
+                    return Err(second(&c));
+                }
+                read_v2::parametric_nodes(&mut c, &mut b)?
+            }
             "Elements" => {
                 if b.elements_read {
                     return Err(second(&c));

@@ -31,6 +31,54 @@ pub(crate) fn nodes(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()> {
     c.expect_end("Nodes")
 }
 
+/// `$ParametricNodes` (`gmsh -save_parametric`, ASCII): per node `tag x y z dim entity` and
+/// then its parametric coordinates on its entity (`u` on a curve, `u v` on a surface), which go
+/// to `gmsh:parametric` as the MSH 4.1 reader puts them.
+pub(crate) fn parametric_nodes(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()> {
+    if c.binary {
+        return Err(c.err("a binary $ParametricNodes section is not supported (save it as ASCII)"));
+    }
+    let n = count_line(c, "the number of nodes")?;
+    b.node_tags.reserve(c.cap(n, 8));
+    b.coords.reserve(c.cap(n.saturating_mul(3), 8));
+    for _ in 0..n {
+        let at = c.pos;
+        let tag = c.int("a node number")?;
+        let mut xyz = [0.0; 3];
+        for v in &mut xyz {
+            *v = c.real("a node coordinate")?;
+        }
+        c.int("the node's entity dimension")?;
+        c.int("the node's entity tag")?;
+        let rest = c.rest_of_line();
+        let mut uvw = [f64::NAN; 3];
+        let mut k = 0;
+        for t in rest
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|t| !t.is_empty())
+        {
+            let v = std::str::from_utf8(t)
+                .ok()
+                .and_then(|t| t.parse::<f64>().ok())
+                .filter(|_| k < 3)
+                .ok_or_else(|| {
+                    c.err_at(
+                        at,
+                        format!(
+                            "node {tag}: '{}' is not a parametric coordinate (at most three numbers follow the entity)",
+                            String::from_utf8_lossy(t)
+                        ),
+                    )
+                })?;
+            uvw[k] = v;
+            k += 1;
+        }
+        b.add_node(c, at, tag, xyz, Some(uvw))?;
+    }
+    b.nodes_read = true;
+    c.expect_end("ParametricNodes")
+}
+
 /// Physical and elementary tags from an element's tag list (0 when absent).
 fn tags(list: &[i64]) -> (i64, i64) {
     (
@@ -126,5 +174,33 @@ pub(crate) fn elements(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()> {
         b.shared_partition_cells = 0;
     }
     b.elements_read = true;
+    warn_copies(c, b);
     c.expect_end("Elements")
+}
+
+/// Warns when elements repeat (same type and nodes): Gmsh 2.2 writes an element once per
+/// physical group it belongs to, and the copies stay separate cells, as Gmsh reads them back,
+/// so the mesh overlaps itself (volumes count twice, and no visibility order is exact).
+fn warn_copies(c: &Cursor<'_>, b: &Builder) {
+    use std::hash::{Hash, Hasher};
+    let cells = &b.cells;
+    let mut seen = std::collections::HashSet::with_capacity(cells.len());
+    let mut copies = 0usize;
+    let mut nodes = Vec::new();
+    for i in 0..cells.len() {
+        nodes.clear();
+        nodes.extend_from_slice(cells.cell(i));
+        nodes.sort_unstable();
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        (cells.types[i], &nodes).hash(&mut h);
+        if !seen.insert(h.finish()) {
+            copies += 1;
+        }
+    }
+    if copies > 0 {
+        crate::warn(&format!(
+            "{}: {copies} elements repeat an earlier one's type and nodes (MSH 2.2 writes an element once per physical group it is in); the copies are kept as separate cells, as Gmsh reads them, so they overlap",
+            c.file_name()
+        ));
+    }
 }
