@@ -52,11 +52,10 @@ pub(crate) fn parametric_nodes(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()
         c.int("the node's entity tag")?;
         let rest = c.rest_of_line();
         let mut uvw = [f64::NAN; 3];
-        let mut k = 0;
-        for t in rest
+        let tokens = rest
             .split(|b| b.is_ascii_whitespace())
-            .filter(|t| !t.is_empty())
-        {
+            .filter(|t| !t.is_empty());
+        for (k, t) in tokens.enumerate() {
             let v = std::str::from_utf8(t)
                 .ok()
                 .and_then(|t| t.parse::<f64>().ok())
@@ -71,7 +70,6 @@ pub(crate) fn parametric_nodes(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()
                     )
                 })?;
             uvw[k] = v;
-            k += 1;
         }
         b.add_node(c, at, tag, xyz, Some(uvw))?;
     }
