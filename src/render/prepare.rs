@@ -180,10 +180,15 @@ const SCALAR_STEP_DEPTH: f64 = 0.5;
 /// most [`SCALAR_STEP_DEPTH`], within [`MAX_DEFAULT_ENTRIES`].
 pub fn scalar_samples(tf: &TransferFunction, chord: f64, length: usize) -> usize {
     let intervals = tf.tau.len().saturating_sub(1).max(1);
+    let cap = ((MAX_DEFAULT_ENTRIES / length.max(1)) as f64).sqrt() as usize;
+    if intervals + 1 > cap {
+        // More nodes than the budget has samples (`--tf-nodes 4096`): one sample per node
+        // would take gigabytes, so the plain 128 (the render notes that it misses the nodes).
+        return 128.min(cap).max(2);
+    }
     // About 128 samples, as the table always had.
     let at_least = ((127 + intervals / 2) / intervals).max(1);
-    let cap = ((MAX_DEFAULT_ENTRIES / length.max(1)) as f64).sqrt() as usize;
-    let most = (cap.saturating_sub(1) / intervals).max(1);
+    let most = (cap - 1) / intervals;
     let need = (steepest_depth(tf, chord) / SCALAR_STEP_DEPTH).ceil();
     let m = if need.is_finite() && need > at_least as f64 {
         (need as usize).min(most)
