@@ -444,8 +444,13 @@ fn a_sharp_opacity_drop_draws_nothing_where_the_function_is_zero() {
     assert!(prepare::table_note(&m, &sharp, size.scalar).is_some());
     let ramp = common::look::viridis_tf("0:0,1:1", [0.0, 1.0], 0.5, 64);
     assert!(prepare::table_note(&m, &ramp, 127).is_none());
-    assert!(
-        prepare::table_note(&m, &ramp, 128).is_some(),
-        "128 samples miss the nodes"
-    );
+    // A gentle function needs no note, on the nodes or off them.
+    assert!(prepare::table_note(&m, &ramp, 128).is_none());
+    let off = prepare::table_note(&m, &sharp, 128).unwrap_or_default();
+    assert!(off.contains("not on the function's nodes"), "{off}");
+    // More nodes than the table's budget has samples: the plain 128, not one per node (4096
+    // nodes asked for a 25 GB table).
+    let many = common::look::viridis_tf("0:0,1:1", [0.0, 1.0], 0.5, 4096);
+    let (big, _) = prepare::table_size(&m, &many, None);
+    assert_eq!(big.scalar, 128, "{big:?}");
 }
