@@ -106,3 +106,45 @@ fn what_tetgen_cannot_hold_is_named_not_silently_dropped() {
     .assert_failure(&["bad.ele", "cell 0 is a hexahedron", "--tetrahedralize"]);
     assert!(!bad.exists() && !dir.path().join("bad.node").exists());
 }
+
+/// What a `.face` line and TetGen's reals cannot hold is named too: a Gmsh mesh's boundary
+/// triangles lost their `gmsh:physical` (only `boundary_marker` goes to `.face`) and Int64
+/// values past 2^53 came back rounded, both without a word.
+#[test]
+fn face_arrays_and_huge_integers_are_named_when_tetgen_cannot_hold_them() {
+    let dir = tempdir();
+    let out = dir.path().join("b.node");
+    let r = tetkit([
+        "convert".as_ref(),
+        fixture("msh/block_hole_41.msh").as_os_str(),
+        out.as_os_str(),
+    ]);
+    r.assert_success();
+    assert!(
+        r.stderr
+            .contains("cell array 'gmsh:physical' on the 280 boundary triangles"),
+        "{}",
+        r.stderr
+    );
+    let mut g = formats::read(&fixture("tetgen/torus.1.ele")).unwrap();
+    let n = g.num_points();
+    g.point_data.insert(formats::DataArray::new(
+        "id",
+        1,
+        formats::ArrayData::Int64((0..n as i64).map(|i| (1 << 53) + i).collect()),
+    ));
+    let vtu = dir.path().join("big.vtu");
+    formats::write(&vtu, &g, &Default::default()).unwrap();
+    let r = tetkit([
+        "convert".as_ref(),
+        vtu.as_os_str(),
+        dir.path().join("big.node").as_os_str(),
+    ]);
+    r.assert_success();
+    assert!(
+        r.stderr
+            .contains("point array 'id' exactly (integers past 2^53"),
+        "{}",
+        r.stderr
+    );
+}

@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
-use formats::{Compression, Encoding, Format, LegacyVersion, WriteOptions};
+use formats::{ArrayData, Compression, Encoding, Format, LegacyVersion, WriteOptions};
 use std::path::PathBuf;
 
 use crate::mesh::tetrahedralize::tetrahedralize;
@@ -175,6 +175,43 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
                 .map(|a| format!("field data '{}'", a.name)),
         );
         use formats::cell_type as ct;
+        // `.face` lines hold one marker: other cell arrays keep their tets' values only.
+        let faces = grid
+            .cells
+            .types
+            .iter()
+            .filter(|&&t| matches!(t, ct::TRIANGLE | ct::QUADRATIC_TRIANGLE))
+            .count();
+        if faces > 0 {
+            lost.extend(
+                grid.cell_data
+                    .arrays
+                    .iter()
+                    .filter(|a| a.data.scalar_type().is_some() && a.name != "boundary_marker")
+                    .map(|a| {
+                        format!(
+                            "cell array '{}' on the {faces} boundary triangles (a .face line holds only boundary_marker)",
+                            a.name
+                        )
+                    }),
+            );
+        }
+        // Every value is written as a decimal real: integers past 2^53 do not survive.
+        for (what, attrs) in [("point", &grid.point_data), ("cell", &grid.cell_data)] {
+            for a in &attrs.arrays {
+                let big = match &a.data {
+                    ArrayData::Int64(v) => v.iter().any(|&x| x.unsigned_abs() > 1 << 53),
+                    ArrayData::UInt64(v) => v.iter().any(|&x| x > 1 << 53),
+                    _ => false,
+                };
+                if big {
+                    lost.push(format!(
+                        "{what} array '{}' exactly (integers past 2^53 are rounded to reals)",
+                        a.name
+                    ));
+                }
+            }
+        }
         if let Some(i) = grid.cells.types.iter().position(|&t| {
             !matches!(
                 t,

@@ -16,8 +16,9 @@
 //! quadratic tets (fails); field data, string arrays and the names of attribute arrays (dropped:
 //! every numeric point array becomes node attribute columns, one per component, and every
 //! numeric cell array except `boundary_marker` and `neighbors` becomes `.ele` attribute columns,
-//! `region` first); all values as decimal reals, so types are not kept (a reread gives Float64)
-//! and integers beyond 2^53 are rounded; `neighbors` is written as `.neigh` (each tet's
+//! `region` first); the values of cell arrays on boundary triangles other than `boundary_marker`
+//! (a `.face` line holds only that marker); all values as decimal reals, so types are not kept (a reread gives Float64)
+//! and integers beyond 2^53 are rounded (`convert` names each such array on stderr); `neighbors` is written as `.neigh` (each tet's
 //! neighbours by their `.ele` numbers) when every entry is -1 or a tet of the mesh, else as
 //! `.ele` attribute columns like any other array.
 
