@@ -41,11 +41,6 @@ fn the_ray_caster_keeps_to_the_ray_next_to_slivers() {
     let (pt, _) = render("pt");
     let (rc, said) = render("raycast");
     assert!(said.contains("lost walks 0"), "{said}");
-    let worst = pt
-        .pixels()
-        .zip(rc.pixels())
-        .flat_map(|(p, q)| (0..3).map(move |k| p.0[k].abs_diff(q.0[k])))
-        .max()
-        .unwrap_or(0);
+    let worst = common::max_channel_diff(&pt, &rc);
     assert!(worst <= 2, "the ray caster is {worst}/255 off PT");
 }

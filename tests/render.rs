@@ -73,15 +73,12 @@ fn pt_image(
         None => (0..m.tets.len() as u32).collect(),
     };
     let shader = prepare::shader(tf, mode, TableSize::default(), prepare::longest_edge(m));
-    pt::render(
-        &View::new(cam, n, n),
-        &m.points,
-        &m.tets,
-        f,
-        &order,
-        &shader,
-    )
-    .0
+    draw(m, f, cam, n, &order, &shader)
+}
+
+/// PT of `m` in `order` with `shader`, an `n` x `n` view of `cam`.
+fn draw(m: &TetMesh, f: &Field, cam: &Camera, n: u32, order: &[u32], shader: &pt::Shader) -> Image {
+    pt::render(&View::new(cam, n, n), &m.points, &m.tets, f, order, shader).0
 }
 
 /// Kd order and pre-integrated PT with a table of `size` over length axis `lmax`.
@@ -99,15 +96,7 @@ fn kd_preintegrated(
     assert!(order.is_ok(), "sort failed");
     let order = order.unwrap_or_default();
     let shader = prepare::shader(tf, Integration::Preintegrated, size, lmax);
-    pt::render(
-        &View::new(cam, n, n),
-        &m.points,
-        &m.tets,
-        f,
-        &order,
-        &shader,
-    )
-    .0
+    draw(m, f, cam, n, &order, &shader)
 }
 
 fn view_of(m: &TetMesh, az: f64, el: f64, parallel: bool) -> Camera {

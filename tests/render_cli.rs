@@ -350,12 +350,7 @@ fn orbit_frames_are_the_single_renders_at_each_azimuth() {
             );
             // The two cameras come from different sequences of f64 rotations: allow one 8-bit
             // step for their last-bit differences.
-            let worst = a
-                .pixels()
-                .zip(b.pixels())
-                .flat_map(|(p, q)| (0..3).map(move |k| p.0[k].abs_diff(q.0[k])))
-                .max()
-                .unwrap_or(0);
+            let worst = common::max_channel_diff(&a, &b);
             assert!(
                 worst <= 1,
                 "{method} frame {i} differs from the single render at azimuth {az} by {worst}/255"

@@ -1286,34 +1286,36 @@ mod tests {
     use super::*;
 
     #[test]
-    fn conversion_keeps_what_fits_and_says_when_a_value_changed() {
+    fn conversion_keeps_what_fits_and_says_when_a_value_changed(
+    ) -> std::result::Result<(), &'static str> {
         let f = ArrayData::Float32(vec![0.25, -3.5, f32::NAN]);
-        let (g, exact) = f.converted(ScalarType::Float64).unwrap();
+        let (g, exact) = f.converted(ScalarType::Float64).ok_or("strings")?;
         assert!(exact);
         assert_eq!(g.get_f64(1), -3.5);
         assert!(g.get_f64(2).is_nan());
         let (g, exact) = ArrayData::Int64(vec![7, -(1 << 40)])
             .converted(ScalarType::Int32)
-            .unwrap();
+            .ok_or("strings")?;
         assert!(!exact);
         assert!(matches!(g, ArrayData::Int32(ref v) if v == &[7, i32::MIN]));
         let (g, exact) = ArrayData::UInt32(vec![u32::MAX])
             .converted(ScalarType::Int64)
-            .unwrap();
+            .ok_or("strings")?;
         assert!(exact);
         assert_eq!(g.get_f64(0), u32::MAX as f64);
         let (_, exact) = ArrayData::UInt64(vec![u64::MAX])
             .converted(ScalarType::Float64)
-            .unwrap();
+            .ok_or("strings")?;
         assert!(!exact, "u64::MAX does not survive f64");
         let (g, exact) = ArrayData::Float64(vec![2.5, 1e300])
             .converted(ScalarType::Int16)
-            .unwrap();
+            .ok_or("strings")?;
         assert!(!exact);
         assert!(matches!(g, ArrayData::Int16(ref v) if v == &[3, i16::MAX]));
         assert!(ArrayData::String(vec!["a".into()])
             .converted(ScalarType::Int8)
             .is_none());
+        Ok(())
     }
 
     fn arr(name: &str, data: ArrayData) -> DataArray {

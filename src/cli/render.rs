@@ -269,6 +269,9 @@ pub struct Session {
     pub table: TableSize,
     /// Length axis of the pre-integration tables ([`prepare::table_length`]).
     pub lmax: f64,
+    /// What the table's scalar axis smooths, where the transfer function is steep (printed
+    /// when the table is used).
+    pub table_note: Option<String>,
     /// Subtracted from `field` and from every transfer function's scalars
     /// ([`crate::render::field::scalar_offset`]); 0 for most fields.
     pub scalar_offset: f64,
@@ -396,7 +399,7 @@ impl Session {
             unit_distance: unit,
             nodes: look.tf_nodes,
         };
-        let (table, lmax) = prepare::table_size(&mesh, &tf, look.table);
+        let (table, lmax, table_note) = prepare::table_plan(&mesh, &tf, look.table);
         Ok(Session {
             mesh,
             field_name,
@@ -405,6 +408,7 @@ impl Session {
             base,
             table,
             lmax,
+            table_note,
             scalar_offset,
             scalar_scale,
             read_s: t0.elapsed().as_secs_f64(),
@@ -531,7 +535,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         MethodChoice::Raycast => args.ray_integration == RayIntegration::Preintegrated,
     };
     if uses_table && scene.as_ref().is_none_or(|s| s.bodies.is_empty()) {
-        if let Some(n) = prepare::table_note(&session.mesh, &session.tf, session.table.scalar) {
+        if let Some(n) = &session.table_note {
             eprintln!("tetkit: note: {}: {n}", args.input.display());
         }
     }

@@ -222,8 +222,19 @@ pub fn table_size(
     tf: &TransferFunction,
     asked: Option<TableSize>,
 ) -> (TableSize, f64) {
+    let (size, lmax, _) = table_plan(mesh, tf, asked);
+    (size, lmax)
+}
+
+/// [`table_size`] and the [`table_note`] of that size, from one pass over the tets.
+pub fn table_plan(
+    mesh: &TetMesh,
+    tf: &TransferFunction,
+    asked: Option<TableSize>,
+) -> (TableSize, f64, Option<String>) {
     // One pass over the tets' edges serves both the step count and the axis.
     let spread = edge_spread(mesh);
+    let chord = spread.map_or(0.0, |s| s.1);
     let tau = densest(tf);
     let size = asked.unwrap_or_else(|| {
         let d = TableSize::default();
@@ -234,13 +245,13 @@ pub fn table_size(
         } else {
             d.length
         };
-        let chord = spread.map_or(0.0, |s| s.1);
         TableSize {
             length,
             scalar: scalar_samples(tf, chord, length),
         }
     });
-    (size, axis_length(&spread, tau, size.length))
+    let note = note_for(tf, chord, size.scalar);
+    (size, axis_length(&spread, tau, size.length), note)
 }
 
 /// A note when the table's scalar axis (`ns` samples) is coarse for the transfer function
@@ -248,7 +259,11 @@ pub fn table_size(
 /// fragment of `mesh` (saying so too when the samples miss the function's nodes, which then
 /// smooths the steep part across them). A gentle function needs no note on any axis.
 pub fn table_note(mesh: &TetMesh, tf: &TransferFunction, ns: usize) -> Option<String> {
-    let chord = edge_spread(mesh).map_or(0.0, |s| s.1);
+    note_for(tf, edge_spread(mesh).map_or(0.0, |s| s.1), ns)
+}
+
+/// [`table_note`] for a mesh whose typical chord is `chord`.
+fn note_for(tf: &TransferFunction, chord: f64, ns: usize) -> Option<String> {
     let intervals = tf.tau.len().saturating_sub(1).max(1);
     let steps = ns.saturating_sub(1).max(1);
     let aligned = steps.is_multiple_of(intervals);

@@ -612,3 +612,12 @@ pub fn grids_bit_equal(a: &Grid, b: &Grid) -> Result<(), String> {
         Err(errors.join("; "))
     }
 }
+
+/// The largest difference of any channel of any pixel between two 8-bit RGB images of one size.
+pub fn max_channel_diff(a: &image::RgbImage, b: &image::RgbImage) -> u8 {
+    a.pixels()
+        .zip(b.pixels())
+        .flat_map(|(p, q)| (0..3).map(move |k| p.0[k].abs_diff(q.0[k])))
+        .max()
+        .unwrap_or(0)
+}

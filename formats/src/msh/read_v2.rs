@@ -14,17 +14,23 @@ fn count_line(c: &mut Cursor<'_>, what: &str) -> Result<u64> {
     Ok(n)
 }
 
+/// A node line's start: its position, number and coordinates.
+fn node_start(c: &mut Cursor<'_>) -> Result<(usize, i64, [f64; 3])> {
+    let at = c.pos;
+    let tag = c.int("a node number")?;
+    let mut xyz = [0.0; 3];
+    for v in &mut xyz {
+        *v = c.real("a node coordinate")?;
+    }
+    Ok((at, tag, xyz))
+}
+
 pub(crate) fn nodes(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()> {
     let n = count_line(c, "the number of nodes")?;
     b.node_tags.reserve(c.cap(n, 8));
     b.coords.reserve(c.cap(n.saturating_mul(3), 8));
     for _ in 0..n {
-        let at = c.pos;
-        let tag = c.int("a node number")?;
-        let mut xyz = [0.0; 3];
-        for v in &mut xyz {
-            *v = c.real("a node coordinate")?;
-        }
+        let (at, tag, xyz) = node_start(c)?;
         b.add_node(c, at, tag, xyz, None)?;
     }
     b.nodes_read = true;
@@ -42,12 +48,7 @@ pub(crate) fn parametric_nodes(c: &mut Cursor<'_>, b: &mut Builder) -> Result<()
     b.node_tags.reserve(c.cap(n, 8));
     b.coords.reserve(c.cap(n.saturating_mul(3), 8));
     for _ in 0..n {
-        let at = c.pos;
-        let tag = c.int("a node number")?;
-        let mut xyz = [0.0; 3];
-        for v in &mut xyz {
-            *v = c.real("a node coordinate")?;
-        }
+        let (at, tag, xyz) = node_start(c)?;
         c.int("the node's entity dimension")?;
         c.int("the node's entity tag")?;
         let rest = c.rest_of_line();

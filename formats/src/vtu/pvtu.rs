@@ -336,14 +336,13 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Grid> {
         .map_err(|e| e.with_file(path))?;
         // Points of the declared type too (an empty piece's default Float32 among Float64
         // pieces, as VTK writes it).
-        let ty = index.points_ty.or_else(|| {
-            grids
+        let ty = match index.points_ty {
+            None if g.num_points() == 0 => grids
                 .first()
-                .and_then(|g: &Grid| g.points.data.scalar_type())
-        });
-        if g.num_points() == 0 || index.points_ty.is_some() {
-            g.points = as_declared(g.points, ty, "points", i, &p);
-        }
+                .and_then(|g: &Grid| g.points.data.scalar_type()),
+            declared => declared,
+        };
+        g.points = as_declared(g.points, ty, "points", i, &p);
         grids.push(g);
     }
     warn_dropped(path, "point", &drop_point);

@@ -387,7 +387,7 @@ mod tests {
     /// Tabs and line breaks in names go out as character references: an XML parser turns them
     /// into spaces otherwise, so VTK read `tab<TAB>nl<LF>x` as `tab nl x`.
     #[test]
-    fn names_keep_tabs_and_line_breaks() {
+    fn names_keep_tabs_and_line_breaks() -> std::result::Result<(), Box<dyn std::error::Error>> {
         let mut g = Grid {
             points: DataArray::new("Points", 3, ArrayData::Float64(vec![0.0; 3])),
             ..Default::default()
@@ -396,18 +396,19 @@ mod tests {
         g.point_data
             .insert(DataArray::new(name, 1, ArrayData::Float32(vec![1.5])));
         let dir = std::env::temp_dir().join(format!("tetkit-names-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::create_dir_all(&dir)?;
         let path = dir.join("n.vtu");
-        crate::write(&path, &g, &WriteOptions::default()).unwrap();
-        let bytes = std::fs::read(&path).unwrap();
+        crate::write(&path, &g, &WriteOptions::default())?;
+        let bytes = std::fs::read(&path)?;
         let want = b"tab&#9;nl&#10;x&#13;q";
         assert!(bytes.windows(want.len()).any(|w| w == want));
-        let back = crate::read(&path).unwrap();
+        let back = crate::read(&path)?;
         assert!(
             back.point_data.get(name).is_some(),
             "{:?}",
             back.point_data.arrays
         );
-        std::fs::remove_dir_all(&dir).unwrap();
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
     }
 }

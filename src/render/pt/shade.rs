@@ -167,15 +167,30 @@ pub(crate) trait Shade {
         buf: &mut [[f32; 4]],
         d: &mut Drawn,
     ) {
-        for lo in [0, LANES] {
-            if n <= lo {
-                break;
-            }
-            let half: Lanes = std::array::from_fn(|k| std::array::from_fn(|i| f[k][lo + i]));
-            let at: [usize; LANES] = std::array::from_fn(|i| at[lo + i]);
+        for_halves(f, at, n, |half, at, m| {
             // SAFETY: the caller's promise.
-            unsafe { self.composite_avx512(&half, &at, (n - lo).min(LANES), buf, d) }
+            unsafe { self.composite_avx512(half, at, m, buf, d) }
+        });
+    }
+}
+
+/// Calls `each` with the lanes `0..8` and then `8..16` of a wide batch whose first `n` lanes
+/// are used (and with how many of each half are), skipping a half with none.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn for_halves(
+    f: &WideLanes,
+    at: &[usize; WIDE_LANES],
+    n: usize,
+    mut each: impl FnMut(&Lanes, &[usize; LANES], usize),
+) {
+    for lo in [0, LANES] {
+        if n <= lo {
+            break;
         }
+        let half: Lanes = std::array::from_fn(|k| std::array::from_fn(|i| f[k][lo + i]));
+        let at: [usize; LANES] = std::array::from_fn(|i| at[lo + i]);
+        each(&half, &at, (n - lo).min(LANES));
     }
 }
 
@@ -329,14 +344,9 @@ impl Shade for PreintTable {
             unsafe { x86::composite_pre_wide(self, f, at, n, buf, d) };
             return;
         }
-        for lo in [0, LANES] {
-            if n <= lo {
-                break;
-            }
-            let half: Lanes = std::array::from_fn(|k| std::array::from_fn(|i| f[k][lo + i]));
-            let at: [usize; LANES] = std::array::from_fn(|i| at[lo + i]);
-            composite_lanes(self, &half, &at, (n - lo).min(LANES), buf, d);
-        }
+        for_halves(f, at, n, |half, at, m| {
+            composite_lanes(self, half, at, m, buf, d)
+        });
     }
 }
 
