@@ -619,9 +619,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             for i in 0..cpu_frames {
                 let cam = orbit_camera(&cam0, &step, i);
                 let t = Instant::now();
-                let (order, sort_s) =
-                    order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort);
-                let (img, stats, times) = pt_frame(&session, &cam, w, h, &order, &shader);
+                // The sort runs while the points are projected (see `pt::render_sorting`).
+                let view = View::new(&cam, w, h);
+                let (img, stats, times, _, sort_s) = pt::render_sorting(
+                    &view,
+                    &session.mesh.points,
+                    &session.mesh.tets,
+                    &session.field,
+                    &shader,
+                    session.schedule,
+                    || order_for(sorter.as_ref(), session.mesh.tets.len(), &cam, args.sort),
+                );
                 let frame_s = t.elapsed().as_secs_f64();
                 frame_times.push(frame_s);
                 img.write_png(&frame_path(&args.output, i, frames), look.background)?;

@@ -43,7 +43,7 @@ use chunks::render_chunks;
 use tiles::PlainDraw;
 
 /// Tile side in pixels.
-pub const TILE: usize = 32;
+pub const TILE: usize = 64;
 /// Sub-pixel bits of the fixed-point rasterizer.
 pub(crate) const SUB: i64 = 256;
 /// Vertices farther than this from the image (in fixed point) are not rasterized.
@@ -156,14 +156,59 @@ pub fn render_with(
     let t0 = std::time::Instant::now();
     let proj = project_points(view, points);
     let stretch = stretch_map(view);
+    let project = t0.elapsed().as_secs_f64();
+    draw_projected(
+        view, tets, field, order, shader, schedule, &proj, &stretch, project,
+    )
+}
+
+/// [`render_with`] for an order that `sort` makes while the points are projected: a sort
+/// has stretches one core runs alone (a leaf's peel), which the projection fills. Returns
+/// what `sort` returned besides the order, too.
+#[allow(clippy::too_many_arguments)]
+pub fn render_sorting<T: Send>(
+    view: &View,
+    points: &[[f64; 3]],
+    tets: &[[u32; 4]],
+    field: &Field,
+    shader: &Shader,
+    schedule: Schedule,
+    sort: impl FnOnce() -> (Vec<u32>, T) + Send,
+) -> (Image, PtStats, PtTimes, Vec<u32>, T) {
+    let ((order, extra), (proj, stretch, project)) = rayon::join(sort, || {
+        let t0 = std::time::Instant::now();
+        let proj = project_points(view, points);
+        let stretch = stretch_map(view);
+        (proj, stretch, t0.elapsed().as_secs_f64())
+    });
+    let (img, stats, times) = draw_projected(
+        view, tets, field, &order, shader, schedule, &proj, &stretch, project,
+    );
+    (img, stats, times, order, extra)
+}
+
+/// Draws the tets in `order` from their projected points; `project` is the seconds the
+/// projection took, for the times returned.
+#[allow(clippy::too_many_arguments)]
+fn draw_projected(
+    view: &View,
+    tets: &[[u32; 4]],
+    field: &Field,
+    order: &[u32],
+    shader: &Shader,
+    schedule: Schedule,
+    proj: &[Projected],
+    stretch: &[f32],
+    project: f64,
+) -> (Image, PtStats, PtTimes) {
     collapse_huge(tets);
     let t1 = std::time::Instant::now();
     let frame = Frame {
         view,
         tets,
         field,
-        proj: &proj,
-        stretch: &stretch,
+        proj,
+        stretch,
     };
     let (img, stats, bin_s) = match schedule {
         Schedule::Tiles => {
@@ -184,7 +229,7 @@ pub fn render_with(
         img,
         stats,
         PtTimes {
-            project: (t1 - t0).as_secs_f64(),
+            project,
             bin: bin_s,
             raster: (t3 - t1).as_secs_f64() - bin_s,
         },

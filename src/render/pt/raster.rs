@@ -456,7 +456,7 @@ pub(crate) fn raster_with<S: Shade>(
     #[cfg(target_arch = "x86_64")]
     if simd == Path::Best && w <= 16 && super::raster_x86::wide_rows_fit(&draw, x1, y1) {
         if let Some(c) = CoverEdges::new(t, x0, y0, w) {
-            // SAFETY: the CPU has AVX2, AVX-512F and AVX-512VL, and the stretch map holds
+            // SAFETY: the CPU has AVX2, AVX-512F, AVX-512VL, POPCNT and BMI1, and the stretch map holds
             // every pixel of rows `y0 ..= y1` up to `x1` (both checked by `wide_rows_fit`).
             let d = unsafe { super::raster_x86::wide_rows(&draw, &c, y0, y1, buf) };
             return (d.frags, d.opaque);

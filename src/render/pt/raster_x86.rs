@@ -257,7 +257,8 @@ unsafe fn rows_body<S: Shade, R: Rows, const WIDE: bool>(
 }
 
 /// Whether [`wide_rows`] can draw rows up to `y1`, pixels up to `x1`, of `draw`: the CPU has
-/// AVX2, AVX-512F and AVX-512VL, and the stretch map holds those pixels.
+/// AVX2, AVX-512F, AVX-512VL, POPCNT and BMI1 (every AVX-512 CPU has the last two; without
+/// them each count of lanes was a dozen instructions), and the stretch map holds those pixels.
 #[inline(always)]
 pub(super) fn wide_rows_fit<S>(draw: &Draw<S>, x1: i64, y1: i64) -> bool {
     use std::arch::is_x86_feature_detected as has;
@@ -270,6 +271,8 @@ pub(super) fn wide_rows_fit<S>(draw: &Draw<S>, x1: i64, y1: i64) -> bool {
         && has!("avx2")
         && has!("avx512f")
         && has!("avx512vl")
+        && has!("popcnt")
+        && has!("bmi1")
 }
 
 /// A batch of up to [`WIDE_LANES`] pixels in 512-bit registers, as [`Batch`].
@@ -401,9 +404,9 @@ unsafe fn flush16<S: Shade>(
 /// pixels and their values are those of [`rows_body`], so the bits are the same.
 ///
 /// # Safety
-/// The CPU has AVX2, AVX-512F and AVX-512VL; `draw.stretch` holds every pixel of rows
+/// The CPU has AVX2, AVX-512F, AVX-512VL, POPCNT and BMI1; `draw.stretch` holds every pixel of rows
 /// `y0 ..= y1` in the box of `c` ([`wide_rows_fit`]).
-#[target_feature(enable = "avx2,avx512f,avx512vl")]
+#[target_feature(enable = "avx2,avx512f,avx512vl,popcnt,bmi1")]
 pub(super) unsafe fn wide_rows<S: Shade>(
     draw: &Draw<S>,
     c: &CoverEdges,

@@ -524,7 +524,6 @@ mod x86 {
         buf: &mut [[f32; 4]],
         d: &mut Drawn,
     ) {
-        let out = buf.as_mut_ptr();
         // The lanes that take a fragment: in the tile (always) and not yet opaque.
         let mut todo = 0u32;
         for (i, &a) in at.iter().enumerate().take(n.min(L)) {
@@ -533,19 +532,44 @@ mod x86 {
                 todo |= 1 << i;
             }
         }
+        let out = buf.as_mut_ptr();
+        // The pairs' alpha comparisons, or-ed: a pixel that turned opaque sets bit 3 or 7.
+        let mut reached = 0u8;
         let mut counts = 0u64;
         let mut twos = todo & !(w.long as u32);
         let (data, o1, o2) = (w.data, w.o1, w.o2);
+        // Per lane, the byte offsets of its table entry and of its pixel, eight lanes to a
+        // register: the loop below then adds one of each to a base, where it sign-extended,
+        // shifted and added per lane.
+        let (mut qo, mut po) = ([0usize; L], [0usize; L]);
+        // SAFETY: the CPU has AVX-512F and VL (the caller's promise); `L` is 8 or 16, so each
+        // eighth of `bases` (32 bytes), `at`, `qo` and `po` (64 bytes each) is in its array.
+        unsafe {
+            for h in 0..L / 8 {
+                let b = _mm256_loadu_si256(w.bases.as_ptr().add(8 * h).cast());
+                let q = _mm512_slli_epi64::<4>(_mm512_cvtepi32_epi64(b));
+                _mm512_storeu_si512(qo.as_mut_ptr().add(8 * h).cast(), q);
+                let a = _mm512_loadu_si512(at.as_ptr().add(8 * h).cast());
+                // Wrapping for a lane past `buf`, whose offset is never used.
+                let p = _mm512_slli_epi64::<4>(a);
+                _mm512_storeu_si512(po.as_mut_ptr().add(8 * h).cast(), p);
+            }
+        }
         while twos.count_ones() >= 2 {
             let i = twos.trailing_zeros() as usize;
             twos &= twos - 1;
             let j = twos.trailing_zeros() as usize;
             twos &= twos - 1;
-            // SAFETY: the CPU has AVX-512F and VL (the caller's promise). Both bases are in
-            // the table as in [`entry`], so every 32-byte read from `q + o` lies in it; `at[i]`
-            // and `at[j]` are distinct pixels inside `buf` (checked above).
+            debug_assert!(i < L && j < L);
+            // SAFETY: the CPU has AVX-512F and VL (the caller's promise). `i` and `j` are lanes
+            // of `todo`, below `L`. Both bases are in the table as in [`entry`], so every
+            // 32-byte read from `q + o` lies in it; `at[i]` and `at[j]` are distinct pixels
+            // inside `buf` (checked by `takers`), `po` their byte offsets.
             unsafe {
-                let (qi, qj) = (data.add(w.bases[i] as usize), data.add(w.bases[j] as usize));
+                let (qi, qj) = (
+                    data.byte_add(*qo.get_unchecked(i)),
+                    data.byte_add(*qo.get_unchecked(j)),
+                );
                 // Entries `a` and `a + 1` of lane `i`, then of lane `j`.
                 let c = |o: usize| {
                     let lo = _mm512_castps256_ps512(_mm256_loadu_ps(qi.add(o).cast()));
@@ -553,7 +577,11 @@ mod x86 {
                     _mm512_castpd_ps(_mm512_insertf64x4::<1>(_mm512_castps_pd(lo), hi))
                 };
                 let two = |v: &[f32; L]| {
-                    _mm512_mask_broadcastss_ps(_mm512_set1_ps(v[i]), 0xff00, _mm_set_ss(v[j]))
+                    _mm512_mask_broadcastss_ps(
+                        _mm512_set1_ps(*v.get_unchecked(i)),
+                        0xff00,
+                        _mm_set_ss(*v.get_unchecked(j)),
+                    )
                 };
                 let (tb, tl) = (two(&w.wb), two(&w.wl));
                 let lerp = |a: __m512, b: __m512, t: __m512| {
@@ -564,18 +592,36 @@ mod x86 {
                 let v = _mm512_shuffle_f32x4::<0b11_01_10_00>(v, v);
                 let lo = _mm512_castps512_ps256(v);
                 let hi = _mm256_castpd_ps(_mm512_extractf64x4_pd::<1>(_mm512_castps_pd(v)));
-                let wf =
-                    _mm256_mask_broadcastss_ps(_mm256_set1_ps(w.wf[i]), 0xf0, _mm_set_ss(w.wf[j]));
+                let wf = _mm256_mask_broadcastss_ps(
+                    _mm256_set1_ps(*w.wf.get_unchecked(i)),
+                    0xf0,
+                    _mm_set_ss(*w.wf.get_unchecked(j)),
+                );
                 let v = _mm256_add_ps(lo, _mm256_mul_ps(wf, _mm256_sub_ps(hi, lo)));
-                let (pi, pj) = (out.add(at[i]).cast::<f32>(), out.add(at[j]).cast::<f32>());
+                let (pi, pj) = (
+                    out.byte_add(*po.get_unchecked(i)).cast::<f32>(),
+                    out.byte_add(*po.get_unchecked(j)).cast::<f32>(),
+                );
                 let sv = _mm256_loadu2_m128(pj, pi);
                 let k = _mm256_sub_ps(_mm256_set1_ps(1.0), _mm256_permute_ps::<0xff>(sv));
                 let new = _mm256_add_ps(sv, _mm256_mul_ps(k, v));
                 _mm256_storeu2_m128(pj, pi, new);
-                let m = _mm256_cmp_ps_mask::<_CMP_GE_OQ>(new, _mm256_set1_ps(OPAQUE));
-                counts += 2 | ((m >> 3 & 1) as u64 + (m >> 7 & 1) as u64) << 32;
+                reached |= _mm256_cmp_ps_mask::<_CMP_GE_OQ>(new, _mm256_set1_ps(OPAQUE));
             }
         }
+        if reached & 0x88 != 0 {
+            // Some paired pixel turned opaque (rare: once per pixel). Every paired lane was
+            // below `OPAQUE` (or NaN) before, so those at or past it now are the new ones.
+            let mut p = todo & !(w.long as u32) & !twos;
+            while p != 0 {
+                let i = p.trailing_zeros() as usize;
+                p &= p - 1;
+                // SAFETY: `at[i]` is inside `buf` (a lane of `todo`).
+                let a = unsafe { (*out.add(at[i]))[3] };
+                counts += ((a >= OPAQUE) as u64) << 32;
+            }
+        }
+        counts += (todo & !(w.long as u32) & !twos).count_ones() as u64;
         // Long lanes and an odd one left: one at a time.
         let mut single = (todo & w.long as u32) | twos;
         while single != 0 {
@@ -857,6 +903,8 @@ pub(crate) mod tests {
                     1 => OPAQUE,
                     2 => 1.0,
                     3 if r.next() < 0.05 => f32::NAN,
+                    // Just below opaque: a fragment can take it past.
+                    4 => OPAQUE - r.next() * 0.01,
                     _ => r.next(),
                 };
                 *p = [r.next() * a, r.next() * a, r.next() * a, a];
@@ -869,6 +917,71 @@ pub(crate) mod tests {
             let bits = |b: &[[f32; 4]]| b.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
             assert_eq!(bits(&got), bits(&want), "case {case}: {f:?} n {n}");
             assert_eq!((dg.frags, dg.opaque), (dw.frags, dw.opaque), "case {case}");
+        }
+    }
+
+    /// [`same_as_lanes`] for the 16-lane batches of the AVX-512 rows: `run` must leave the
+    /// bits and counts that [`composite_lanes`] leaves on each half in turn.
+    #[cfg(target_arch = "x86_64")]
+    fn wide_same_as_lanes(
+        table: &PreintTable,
+        run: impl Fn(&PreintTable, &WideLanes, &[usize; WIDE_LANES], usize, &mut [[f32; 4]], &mut Drawn),
+    ) {
+        let mut r = Rng(0x2545_f491_4f6c_dd1d);
+        let npix = 96;
+        for case in 0..20_000 {
+            let mut f = [[0f32; WIDE_LANES]; 3];
+            for (k, lanes) in f.iter_mut().enumerate() {
+                let hi = if k < 2 { 3.0 } else { 3.0 * table.lmax as f32 };
+                for v in lanes.iter_mut() {
+                    *v = value(&mut r, if k < 2 { -1.0 } else { 0.0 }, hi);
+                }
+            }
+            let mut at = [0usize; WIDE_LANES];
+            let start = (r.next() * npix as f32) as usize;
+            for (i, a) in at.iter_mut().enumerate() {
+                *a = (start + 5 * i) % npix;
+            }
+            let mut buf = vec![[0f32; 4]; npix];
+            for p in buf.iter_mut() {
+                let a = match (r.next() * 6.0) as usize {
+                    0 => 0.0,
+                    1 => OPAQUE,
+                    2 => 1.0,
+                    3 if r.next() < 0.05 => f32::NAN,
+                    // Just below opaque: a fragment can take it past.
+                    4 => OPAQUE - r.next() * 0.01,
+                    _ => r.next(),
+                };
+                *p = [r.next() * a, r.next() * a, r.next() * a, a];
+            }
+            let n = case % (WIDE_LANES + 1);
+            let (mut want, mut got) = (buf.clone(), buf);
+            let (mut dw, mut dg) = (Drawn::default(), Drawn::default());
+            for_halves(&f, &at, n, |half, at, m| {
+                composite_lanes(table, half, at, m, &mut want, &mut dw)
+            });
+            run(table, &f, &at, n, &mut got, &mut dg);
+            let bits = |b: &[[f32; 4]]| b.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+            assert_eq!(bits(&got), bits(&want), "case {case}: {f:?} n {n}");
+            assert_eq!((dg.frags, dg.opaque), (dw.frags, dw.opaque), "case {case}");
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn the_wide_composite_gives_the_same_bits() {
+        if !(std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl"))
+        {
+            eprintln!("no AVX-512 here: the 16-lane composite is not used");
+            return;
+        }
+        for t in tables() {
+            // SAFETY: the CPU has AVX-512F and VL, checked just above.
+            wide_same_as_lanes(&t, |t, f, at, n, buf, d| unsafe {
+                t.composite_wide(f, at, n, buf, d)
+            });
         }
     }
 
