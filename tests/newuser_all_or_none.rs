@@ -69,3 +69,27 @@ fn a_folder_in_the_way_places_nothing_and_is_named() {
         assert!(d.join(format!("n.{ext}")).is_file(), "{ext}");
     }
 }
+
+/// `partition -o x.vtu --tree x.vtu` (or `--tree ./x.vtu`): both outputs named one file, and
+/// the split mesh silently replaced the tree (exit 0, one file, the tree gone). Now refused
+/// before anything is written, naming both, and the file that was there stays as it was.
+#[test]
+fn two_outputs_named_as_one_file_are_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    let before = b"the user's previous file".to_vec();
+    std::fs::write(d.join("x.vtu"), &before).unwrap();
+    for tree in [d.join("x.vtu"), d.join(".").join("x.vtu")] {
+        let r = tetkit([
+            "partition".as_ref(),
+            fixture("tetgen/sphere.1.ele").as_os_str(),
+            "-o".as_ref(),
+            d.join("x.vtu").as_os_str(),
+            "--tree".as_ref(),
+            tree.as_os_str(),
+        ]);
+        r.assert_failure(&["x.vtu", "two outputs cannot share one file"]);
+        assert_eq!(std::fs::read(d.join("x.vtu")).unwrap(), before);
+        assert_eq!(dir_listing(d), vec!["x.vtu".to_string()]);
+    }
+}
