@@ -499,7 +499,6 @@ impl DataArray {
         self.name == other.name
             && self.components == other.components
             && self.component_names == other.component_names
-            && self.id_type == other.id_type
             && self.data.bit_eq(&other.data)
     }
 

@@ -229,17 +229,17 @@ fn type_name(data: &ArrayData, name: &str) -> Result<&'static str> {
     })
 }
 
-/// A vtkIdTypeArray's values as `vtkIdType` holds them in legacy files (32-bit ints, as VTK
-/// writes and reads them), when every value fits; otherwise the array is written by its type.
+/// A 64-bit vtkIdTypeArray's values as `vtkIdType` holds them in legacy files (32-bit ints, as
+/// VTK writes them; read back as 64-bit ids), when every value fits; otherwise (and for Int32
+/// ids, which `vtkIdType` would read back as Int64) the array is written by its type.
 fn id_values(a: &DataArray) -> Option<ArrayData> {
+    let ArrayData::Int64(v) = &a.data else {
+        return None;
+    };
     if !a.id_type {
         return None;
     }
-    let v: Option<Vec<i32>> = match &a.data {
-        ArrayData::Int64(v) => v.iter().map(|&x| i32::try_from(x).ok()).collect(),
-        ArrayData::Int32(v) => Some(v.clone()),
-        _ => None,
-    };
+    let v: Option<Vec<i32>> = v.iter().map(|&x| i32::try_from(x).ok()).collect();
     v.map(ArrayData::Int32)
 }
 
