@@ -69,3 +69,75 @@ fn a_folder_in_the_way_places_nothing_and_is_named() {
         assert!(d.join(format!("n.{ext}")).is_file(), "{ext}");
     }
 }
+
+/// `partition -o x.vtu --tree x.vtu` (or `--tree ./x.vtu`): both outputs named one file, and
+/// the split mesh silently replaced the tree (exit 0, one file, the tree gone). Now refused
+/// before anything is written, naming both, and the file that was there stays as it was.
+#[test]
+fn two_outputs_named_as_one_file_are_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    let before = b"the user's previous file".to_vec();
+    std::fs::write(d.join("x.vtu"), &before).unwrap();
+    for tree in [d.join("x.vtu"), d.join(".").join("x.vtu")] {
+        let r = tetkit([
+            "partition".as_ref(),
+            fixture("tetgen/sphere.1.ele").as_os_str(),
+            "-o".as_ref(),
+            d.join("x.vtu").as_os_str(),
+            "--tree".as_ref(),
+            tree.as_os_str(),
+        ]);
+        r.assert_failure(&["x.vtu", "two outputs cannot share one file"]);
+        assert_eq!(std::fs::read(d.join("x.vtu")).unwrap(), before);
+        assert_eq!(dir_listing(d), vec!["x.vtu".to_string()]);
+    }
+}
+
+/// `partition --pieces DIR` where DIR cannot be made (a file of that name): the split mesh and
+/// tree had been placed first and were then deleted, so the user's previous `s.vtu` and `t.vtu`
+/// were gone. The pieces are now written before the two are placed: their failure leaves the
+/// previous files as they were.
+#[test]
+fn pieces_that_cannot_be_written_keep_the_previous_outputs() {
+    let dir = tempdir();
+    let d = dir.path();
+    std::fs::write(d.join("s.vtu"), b"old split").unwrap();
+    std::fs::write(d.join("t.vtu"), b"old tree").unwrap();
+    std::fs::write(d.join("blocker"), b"a file").unwrap();
+    let r = tetkit([
+        "partition".as_ref(),
+        fixture("tetgen/sphere.1.ele").as_os_str(),
+        "-o".as_ref(),
+        d.join("s.vtu").as_os_str(),
+        "--tree".as_ref(),
+        d.join("t.vtu").as_os_str(),
+        "--pieces".as_ref(),
+        d.join("blocker").as_os_str(),
+        "--leaves".as_ref(),
+        "2".as_ref(),
+    ]);
+    r.assert_failure(&["blocker"]);
+    assert_eq!(std::fs::read(d.join("s.vtu")).unwrap(), b"old split");
+    assert_eq!(std::fs::read(d.join("t.vtu")).unwrap(), b"old tree");
+    assert_eq!(
+        dir_listing(d),
+        vec!["blocker".to_string(), "s.vtu".into(), "t.vtu".into()]
+    );
+    // And with a folder it can write into, all of them appear.
+    let r = tetkit([
+        "partition".as_ref(),
+        fixture("tetgen/sphere.1.ele").as_os_str(),
+        "-o".as_ref(),
+        d.join("s.vtu").as_os_str(),
+        "--tree".as_ref(),
+        d.join("t.vtu").as_os_str(),
+        "--pieces".as_ref(),
+        d.join("p").as_os_str(),
+        "--leaves".as_ref(),
+        "2".as_ref(),
+    ]);
+    r.assert_success();
+    assert!(d.join("p/s.pvtu").is_file() && d.join("p/s.vtm").is_file());
+    assert_ne!(std::fs::read(d.join("s.vtu")).unwrap(), b"old split");
+}

@@ -122,3 +122,47 @@ fn probe_keeps_every_array_apart_exact_and_quoted() {
     }
     assert_ne!(images[0], images[1]);
 }
+
+/// `probe` on a mesh of other cells (voxels, hexahedra, quadratic tets: split into tets to be
+/// located) printed a column `original_cell_id` that the file does not have: the split's own
+/// bookkeeping. Only the input's arrays are printed now (`tet` names the input cell); a file
+/// that has its own `original_cell_id` (partition's output) keeps it.
+#[test]
+fn probe_prints_only_the_files_arrays() {
+    let r = tetkit([
+        "probe".as_ref(),
+        common::fixture("structured/image.vti").as_os_str(),
+        "--points".as_ref(),
+        "0.5,0.5,0.5".as_ref(),
+    ]);
+    r.assert_success();
+    let header = r.stdout_str().lines().next().unwrap_or("").to_string();
+    assert!(header.contains("material"), "{header}");
+    assert!(!header.contains("original_cell_id"), "{header}");
+    let dir = tempdir();
+    let split = dir.path().join("split.vtu");
+    tetkit([
+        "partition".as_ref(),
+        common::fixture("structured/image.vti").as_os_str(),
+        "-o".as_ref(),
+        split.as_os_str(),
+        "--leaves".as_ref(),
+        "2".as_ref(),
+        "--strategy".as_ref(),
+        "cost".as_ref(),
+    ])
+    .assert_success();
+    let r = tetkit([
+        "probe".as_ref(),
+        split.as_os_str(),
+        "--points".as_ref(),
+        "0.5,0.5,0.5".as_ref(),
+    ]);
+    r.assert_success();
+    assert!(r
+        .stdout_str()
+        .lines()
+        .next()
+        .unwrap_or("")
+        .contains("original_cell_id"));
+}

@@ -164,6 +164,8 @@ fn named_array(tuples: usize, tag: &'static str) -> impl Strategy<Value = DataAr
             } else {
                 Vec::new()
             },
+            // An id array (IdType="1") round-trips as such when its values are Int64 or Int32.
+            id_type: names && matches!(data, ArrayData::Int64(_) | ArrayData::Int32(_)),
             data,
         })
     })

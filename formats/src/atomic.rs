@@ -73,6 +73,22 @@ fn hidden_sibling(target: &Path, tag: &str) -> io::Result<PathBuf> {
     Ok(dir.join(format!(".{name}.{tag}-{}-{n}", std::process::id())))
 }
 
+/// `target` with its folder resolved (symbolic links, `.` and `..`), so that two spellings of
+/// one file compare equal; as given when its folder cannot be resolved.
+fn resolve(target: &Path) -> PathBuf {
+    if let Ok(p) = target.canonicalize() {
+        return p;
+    }
+    let dir = match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    match (dir.canonicalize(), target.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => target.to_path_buf(),
+    }
+}
+
 /// An I/O failure on one of the files [`write_all_or_none`] places, naming that file (the
 /// caller only knows the group: `x.ele` for `x.node` + `x.ele` + `x.face`).
 #[derive(Debug)]
@@ -106,6 +122,18 @@ pub fn write_all_or_none<E: From<TargetError>>(
     // Found before any work: a folder cannot be replaced by a file.
     if let Some(t) = targets.iter().find(|t| t.is_dir()) {
         return Err(at(t)(io::Error::other("a folder of that name is in the way")).into());
+    }
+    // Two outputs named as one file (`-o x.vtu --tree x.vtu`, or `./x.vtu` and `x.vtu`): the
+    // second placed would silently replace the first.
+    let resolved: Vec<PathBuf> = targets.iter().map(|t| resolve(t)).collect();
+    for (j, r) in resolved.iter().enumerate() {
+        if let Some(i) = resolved[..j].iter().position(|q| q == r) {
+            return Err(at(&targets[j])(io::Error::other(format!(
+                "this is also the output {}: two outputs cannot share one file",
+                targets[i].display()
+            )))
+            .into());
+        }
     }
     let mut files = Vec::with_capacity(targets.len());
     for (i, t) in targets.iter().enumerate() {

@@ -472,6 +472,9 @@ pub struct DataArray {
     pub components: usize,
     /// VTK's ComponentName0.. when the file names them; empty otherwise.
     pub component_names: Vec<String>,
+    /// VTK's vtkIdTypeArray (ids: `vtkOriginalCellIds`, say), written `IdType="1"` in XML and
+    /// `vtkIdType` in legacy files; the data stays the integers the file held (Int64 or Int32).
+    pub id_type: bool,
     pub data: ArrayData,
 }
 
@@ -481,6 +484,7 @@ impl DataArray {
             name: name.into(),
             components,
             component_names: Vec::new(),
+            id_type: false,
             data,
         }
     }
@@ -604,6 +608,7 @@ impl Attributes {
                     name: a.name.clone(),
                     components: a.components,
                     component_names: a.component_names.clone(),
+                    id_type: a.id_type,
                     data: a.data.gather(a.components, idx),
                 })
                 .collect(),

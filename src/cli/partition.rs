@@ -155,7 +155,10 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
     let wopts = WriteOptions::default();
     let tree_grid = output::tree_grid(&result.tree);
     let split_grid = result.mesh.to_grid();
-    // Both files or neither: a failed second write must not leave the first behind.
+    // Every file or none: the leaf pieces are written once the split mesh and tree are made
+    // (into hidden files) but before those are placed, so pieces that cannot be written leave
+    // the previous split mesh and tree as they were, and a split mesh or tree that cannot be
+    // placed takes the pieces back.
     let (targets, grids): (Vec<PathBuf>, Vec<&formats::Grid>) = match &args.tree {
         Some(t) => (
             vec![t.clone(), args.output.clone()],
@@ -163,7 +166,19 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
         ),
         None => (vec![args.output.clone()], vec![&split_grid]),
     };
-    formats::atomic::write_all_or_none(&targets, |i, w| -> anyhow::Result<()> {
+    let stem = args
+        .output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "split".into());
+    let pieces = match &args.pieces {
+        Some(_) => output::leaf_pieces(&result.mesh, &result.tree),
+        None => Vec::new(),
+    };
+    let mut pieces_written: Option<(PathBuf, PathBuf)> = None;
+    let mut pieces_error: Option<anyhow::Error> = None;
+    let last = targets.len() - 1;
+    let placed = formats::atomic::write_all_or_none(&targets, |i, w| -> anyhow::Result<()> {
         grids[i].validate().map_err(|m| {
             anyhow::anyhow!(
                 "{}: refusing to write an invalid mesh: {m}",
@@ -172,37 +187,34 @@ pub fn run(args: &PartitionArgs) -> Result<()> {
         })?;
         formats::write_to(w, formats::Format::Vtu, grids[i], &wopts)
             .map_err(|e| e.with_file(&targets[i]))?;
-        Ok(())
-    })
-    .with_context(|| {
-        let names: Vec<String> = targets.iter().map(|t| t.display().to_string()).collect();
-        format!("writing {}", names.join(" and "))
-    })?;
-    if let Some(dir) = &args.pieces {
-        let stem = args
-            .output
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "split".into());
-        let pieces = output::leaf_pieces(&result.mesh, &result.tree);
-        let (pvtu, vtm) = match output::write_pieces(dir, &stem, &pieces, &wopts) {
-            Ok(p) => p,
-            Err(e) => {
-                // All outputs or none: take back the two files just written.
-                for t in &targets {
-                    let _ = std::fs::remove_file(t);
+        if let (true, Some(dir)) = (i == last, &args.pieces) {
+            match output::write_pieces(dir, &stem, &pieces, &wopts) {
+                Ok(p) => pieces_written = Some(p),
+                Err(e) => {
+                    pieces_error = Some(e);
+                    anyhow::bail!("the leaf pieces could not be written");
                 }
-                return Err(e);
             }
-        };
-        if !args.json {
-            eprintln!(
-                "tetkit: wrote {} leaf pieces, named by {} and {}",
-                pieces.len(),
-                pvtu.display(),
-                vtm.display()
-            );
         }
+        Ok(())
+    });
+    if let Some(e) = pieces_error {
+        return Err(e);
+    }
+    if let Err(e) = placed {
+        if let (Some(dir), Some(_)) = (&args.pieces, &pieces_written) {
+            output::remove_pieces(dir, &stem, pieces.len(), true);
+        }
+        let names: Vec<String> = targets.iter().map(|t| t.display().to_string()).collect();
+        return Err(e.context(format!("writing {}", names.join(" and "))));
+    }
+    if let (Some((pvtu, vtm)), false) = (&pieces_written, args.json) {
+        eprintln!(
+            "tetkit: wrote {} leaf pieces, named by {} and {}",
+            pieces.len(),
+            pvtu.display(),
+            vtm.display()
+        );
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&result.report)?);

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use crate::locate::{GridParams, TetLocator};
 use crate::mesh::TetMesh;
+use crate::partition::ORIGINAL_CELL_ID;
 use formats::ArrayData;
 
 #[derive(Args, Debug)]
@@ -238,8 +239,13 @@ pub fn run(args: &ProbeArgs) -> Result<()> {
     let grid = super::read_input(&args.input)?;
     // Meshes with other cells (TetGen's .face triangles, Gmsh's boundary elements, quadratic
     // cells) are probed through their tets; `tet` reports the input cell that holds the point.
-    let (mesh, input_cell) =
+    let (mut mesh, input_cell) =
         super::tets_with_input_cells(&grid, &args.input.display().to_string())?;
+    // Splitting other cells into tets adds `original_cell_id`; `tet` already reports the input
+    // cell, and only the input's own arrays are probed.
+    if grid.cell_data.get(ORIGINAL_CELL_ID).is_none() {
+        mesh.cell_data.arrays.retain(|a| a.name != ORIGINAL_CELL_ID);
+    }
     let params = GridParams {
         lambda: args.lambda,
         alpha: args.alpha,

@@ -151,14 +151,23 @@ pub fn write_pieces(
         f.commit()
     })();
     if let Err(e) = written {
-        for i in 0..pieces.len() {
-            let _ = std::fs::remove_file(dir.join(stem).join(format!("{stem}_{i}.vtu")));
-        }
-        let _ = std::fs::remove_dir(dir.join(stem));
-        let _ = std::fs::remove_file(&pvtu);
+        remove_pieces(dir, stem, pieces.len(), false);
         return Err(e).with_context(|| format!("writing {}", vtm.display()));
     }
     Ok((pvtu, vtm))
+}
+
+/// Takes back what [`write_pieces`] wrote for `count` pieces: the piece files, their folder
+/// (when left empty), the .pvtu and, with `vtm` (it was placed), the .vtm.
+pub fn remove_pieces(dir: &Path, stem: &str, count: usize, vtm: bool) {
+    for i in 0..count {
+        let _ = std::fs::remove_file(dir.join(stem).join(format!("{stem}_{i}.vtu")));
+    }
+    let _ = std::fs::remove_dir(dir.join(stem));
+    let _ = std::fs::remove_file(dir.join(format!("{stem}.pvtu")));
+    if vtm {
+        let _ = std::fs::remove_file(dir.join(format!("{stem}.vtm")));
+    }
 }
 
 fn xml_escape(s: &str) -> String {

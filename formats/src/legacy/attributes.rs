@@ -40,6 +40,7 @@ pub(crate) fn read_array(
     })?;
     let data = read_numeric(cur, ty, n, &format!("array '{name}'"))?;
     let mut array = DataArray::new(name, components, data);
+    array.id_type = matches!(ty, LegacyType::IdType);
     if let Some(names) = read_metadata(cur, components)? {
         array.component_names = names;
     }

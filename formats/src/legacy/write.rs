@@ -229,11 +229,36 @@ fn type_name(data: &ArrayData, name: &str) -> Result<&'static str> {
     })
 }
 
+/// A 64-bit vtkIdTypeArray's values as `vtkIdType` holds them in legacy files (32-bit ints, as
+/// VTK writes them; read back as 64-bit ids), when every value fits; otherwise (and for Int32
+/// ids, which `vtkIdType` would read back as Int64) the array is written by its type.
+fn id_values(a: &DataArray) -> Option<ArrayData> {
+    let ArrayData::Int64(v) = &a.data else {
+        return None;
+    };
+    if !a.id_type {
+        return None;
+    }
+    let v: Option<Vec<i32>> = v.iter().map(|&x| i32::try_from(x).ok()).collect();
+    v.map(ArrayData::Int32)
+}
+
+/// The legacy type name an array is written with and the values to write.
+fn legacy_values(a: &DataArray) -> (&'static str, Cow<'_, ArrayData>) {
+    match id_values(a) {
+        Some(v) => ("vtkIdType", Cow::Owned(v)),
+        None => (
+            a.data.scalar_type().map_or("string", |t| t.legacy_name()),
+            Cow::Borrowed(&a.data),
+        ),
+    }
+}
+
 /// The keyword an active array is written with, or `None` when it does not fit one.
 fn keyword(role: Attribute, a: &DataArray) -> Option<String> {
     let numeric = a.data.scalar_type().is_some();
     let n = names::encode(&a.name);
-    let ty = a.data.scalar_type()?.legacy_name();
+    let (ty, _) = legacy_values(a);
     let c = a.components;
     if !numeric {
         return None;
@@ -285,14 +310,14 @@ impl Out<'_> {
     fn field_block(&mut self, arrays: &[&DataArray]) -> Result<()> {
         self.text(&format!("FIELD FieldData {}\n", arrays.len()))?;
         for a in arrays {
-            let ty = a.data.scalar_type().map_or("string", |t| t.legacy_name());
+            let (ty, values) = legacy_values(a);
             self.text(&format!(
                 "{} {} {} {ty}\n",
                 names::encode(&a.name),
                 a.components,
                 a.tuples()
             ))?;
-            self.data(&a.data)?;
+            self.data(&values)?;
             self.metadata(a)?;
         }
         Ok(())
@@ -322,7 +347,7 @@ impl Out<'_> {
                     .map_or("default".to_string(), |(_, l)| names::encode(l));
                 self.text(&format!("LOOKUP_TABLE {name}\n"))?;
             }
-            self.data(&a.data)?;
+            self.data(&legacy_values(a).1)?;
             self.metadata(a)?;
             if let Some((name, table)) = lut {
                 self.lookup_table(&name, table)?;

@@ -368,6 +368,9 @@ fn p_array(s: &mut String, indent: &str, a: &crate::DataArray) {
         a.data.type_name(),
         escape(a.name.as_str())
     );
+    if a.id_type && super::write::id_type_ok(&a.data) {
+        s.push_str(" IdType=\"1\"");
+    }
     if a.components != 1 {
         let _ = write!(s, " NumberOfComponents=\"{}\"", a.components);
     }

@@ -186,6 +186,7 @@ fn array(inp: &Input, a: &ArrayXml, need: Option<usize>) -> Result<DataArray> {
         name: a.name.clone(),
         components: a.components,
         component_names: a.component_names.clone(),
+        id_type: a.id_type,
         data,
     })
 }
@@ -628,6 +629,7 @@ fn merge_attributes(parts: Vec<Attributes>, what: &str) -> Result<Attributes> {
         });
         let last = out.arrays.len() - 1;
         out.arrays[last].component_names = a.component_names;
+        out.arrays[last].id_type = a.id_type;
     }
     Ok(out)
 }

@@ -40,6 +40,8 @@ struct Out<'a> {
     name: &'a str,
     components: usize,
     component_names: &'a [String],
+    /// Written `IdType="1"` (a vtkIdTypeArray).
+    id_type: bool,
     tuples: Option<usize>,
     data: Cow<'a, [u8]>,
     /// The values, for ascii output.
@@ -65,6 +67,12 @@ fn array_bytes(d: &ArrayData) -> Cow<'_, [u8]> {
     crate::with_numeric!(d, v => Cow::Borrowed(bytemuck::cast_slice(v.as_slice())), s => Cow::Owned(strings_bytes(s)))
 }
 
+/// Whether VTK reads `data` back as a vtkIdTypeArray when written `IdType="1"`: the integer
+/// types its XML writer gives ids (Int64, or Int32 from a 32-bit-id build).
+pub(crate) fn id_type_ok(data: &ArrayData) -> bool {
+    matches!(data, ArrayData::Int64(_) | ArrayData::Int32(_))
+}
+
 fn out_array<'a>(a: &'a DataArray, tag: &'static str, tuples: Option<usize>) -> Out<'a> {
     Out {
         tag,
@@ -72,6 +80,7 @@ fn out_array<'a>(a: &'a DataArray, tag: &'static str, tuples: Option<usize>) -> 
         name: &a.name,
         components: a.components,
         component_names: &a.component_names,
+        id_type: a.id_type && id_type_ok(&a.data),
         tuples,
         data: array_bytes(&a.data),
         values: Values::Array(&a.data),
@@ -85,6 +94,7 @@ fn out_ids<'a>(name: &'a str, v: &'a [i64]) -> Out<'a> {
         name,
         components: 1,
         component_names: &[],
+        id_type: false,
         tuples: None,
         data: Cow::Borrowed(bytemuck::cast_slice(v)),
         values: Values::Ids(v),
@@ -192,6 +202,9 @@ fn open_tag(s: &mut String, indent: &str, o: &Out, format: &str, offset: Option<
         o.type_name,
         escape(o.name)
     );
+    if o.id_type {
+        s.push_str(" IdType=\"1\"");
+    }
     if let Some(t) = o.tuples {
         let _ = write!(s, " NumberOfTuples=\"{t}\"");
     }
@@ -285,6 +298,7 @@ pub fn write(w: &mut dyn Write, grid: &Grid, opts: &WriteOptions) -> Result<()> 
             name: "types",
             components: 1,
             component_names: &[],
+            id_type: false,
             tuples: None,
             data: Cow::Borrowed(&c.types),
             values: Values::Types(&c.types),

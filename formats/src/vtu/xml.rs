@@ -35,6 +35,8 @@ pub(crate) struct ArrayXml {
     /// Whether `NumberOfComponents` was written (meshio leaves it out of 3x3 tensors).
     pub components_given: bool,
     pub component_names: Vec<String>,
+    /// `IdType="1"` (or `type="IdType"`): a vtkIdTypeArray.
+    pub id_type: bool,
     pub tuples: Option<usize>,
     pub format: DataFormat,
     pub offset: Option<u64>,
@@ -274,6 +276,7 @@ fn array_from(a: &[(String, String)], pos: u64) -> Result<ArrayXml> {
         components,
         components_given: get(a, "NumberOfComponents").is_some(),
         component_names,
+        id_type: ty_name == "IdType" || get(a, "IdType").is_some_and(|v| v.trim() == "1"),
         tuples,
         format,
         offset,
