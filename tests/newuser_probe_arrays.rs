@@ -166,3 +166,71 @@ fn probe_prints_only_the_files_arrays() {
         .unwrap_or("")
         .contains("original_cell_id"));
 }
+
+/// `probe --points FILE` on ParaView's CSV export of points (File > Save Data: a quoted header,
+/// the point arrays' columns, then `Points:0`, `Points:1`, `Points:2`) was refused at line 1
+/// ("'"Points:0"' is not a finite number"). A header naming the coordinate columns is read now,
+/// other columns ignored; a header without them is an error naming the line and the names.
+#[test]
+fn probe_reads_paraviews_csv_of_points() {
+    let dir = tempdir();
+    let image = common::fixture("structured/image.vti");
+    let csv = dir.path().join("points.csv");
+    std::fs::write(
+        &csv,
+        "\"material\",\"Points:0\",\"Points:1\",\"Points:2\",\"Points_Magnitude\"\n\
+         3,0.5,0.5,0.5,0.866\n\
+         1,0.25,0.75,0.5,0.935\n",
+    )
+    .unwrap();
+    let from_csv = tetkit([
+        "probe".as_ref(),
+        image.as_os_str(),
+        "--points".as_ref(),
+        csv.as_os_str(),
+    ]);
+    from_csv.assert_success();
+    let inline = tetkit([
+        "probe".as_ref(),
+        image.as_os_str(),
+        "--points".as_ref(),
+        "0.5,0.5,0.5;0.25,0.75,0.5".as_ref(),
+    ]);
+    inline.assert_success();
+    assert_eq!(from_csv.stdout_str(), inline.stdout_str());
+    assert_eq!(from_csv.stdout_str().lines().count(), 3);
+
+    // Plain x, y, z headers, in another order, with spaces.
+    let xyz = dir.path().join("xyz.csv");
+    std::fs::write(&xyz, "z, x, y\n0.5, 0.5, 0.5\n0.5, 0.25, 0.75\n").unwrap();
+    let r = tetkit([
+        "probe".as_ref(),
+        image.as_os_str(),
+        "--points".as_ref(),
+        xyz.as_os_str(),
+    ]);
+    r.assert_success();
+    assert_eq!(r.stdout_str(), inline.stdout_str());
+
+    // A header without coordinates: refused, naming the file's line and what it looked for.
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "\"a\",\"b\",\"c\"\n1,2,3\n").unwrap();
+    tetkit([
+        "probe".as_ref(),
+        image.as_os_str(),
+        "--points".as_ref(),
+        bad.as_os_str(),
+    ])
+    .assert_failure(&["bad.csv: line 1", "Points:0"]);
+
+    // A data line short of the header's columns names its line.
+    let short = dir.path().join("short.csv");
+    std::fs::write(&short, "x,y,z\n0.5,0.5,0.5\n0.5,0.5\n").unwrap();
+    tetkit([
+        "probe".as_ref(),
+        image.as_os_str(),
+        "--points".as_ref(),
+        short.as_os_str(),
+    ])
+    .assert_failure(&["short.csv: line 3"]);
+}

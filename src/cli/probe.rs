@@ -15,7 +15,9 @@ pub struct ProbeArgs {
     /// Tet mesh (.vtu, .pvtu, .vtk, .node/.ele, .mesh, .msh, .exo, .vtkhdf, .vtm, .pvd, .vti/.vtr/.vts), or - for stdin.
     pub input: PathBuf,
     /// Points: `x,y,z` (repeat the option or separate with `;`), or a text file with one point
-    /// per line (numbers separated by spaces or commas; `#` starts a comment).
+    /// per line (numbers separated by spaces or commas; `#` starts a comment), or a CSV file
+    /// with a header naming the coordinate columns (ParaView's `Points:0`, `Points:1`,
+    /// `Points:2`, or `x`, `y`, `z`; other columns are ignored).
     #[arg(
         long,
         required = true,
@@ -59,6 +61,71 @@ fn parse_point(s: &str, place: &str) -> Result<[f64; 3]> {
     Ok(p)
 }
 
+/// Names a CSV header may give the x, y and z columns (compared without quotes or case):
+/// ParaView's "Save Data" writes `Points:0`..`Points:2` (after the point arrays), other tools
+/// `Points_0`.. or `x`, `y`, `z`.
+const COORD_COLUMNS: [[&str; 4]; 3] = [
+    ["points:0", "points_0", "x", "coordinates:0"],
+    ["points:1", "points_1", "y", "coordinates:1"],
+    ["points:2", "points_2", "z", "coordinates:2"],
+];
+
+/// The columns of x, y and z when `line` is a CSV header (a field that is not a number);
+/// `None` when it is a line of numbers. A header without those columns is an error naming it.
+fn header_columns(line: &str, place: &str) -> Result<Option<[usize; 3]>> {
+    let fields: Vec<String> = line
+        .split(',')
+        .map(|f| f.trim().trim_matches('"').trim().to_ascii_lowercase())
+        .collect();
+    let numeric = line
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+        .all(|t| t.parse::<f64>().is_ok());
+    if numeric {
+        return Ok(None);
+    }
+    let mut cols = [0usize; 3];
+    for (axis, names) in COORD_COLUMNS.iter().enumerate() {
+        cols[axis] = fields
+            .iter()
+            .position(|f| names.contains(&f.as_str()))
+            .ok_or_else(|| {
+                anyhow!(
+                    "{place}: a header without a column for {} (expected one of {}; \
+                     ParaView's CSV export names them Points:0, Points:1, Points:2)",
+                    ["x", "y", "z"][axis],
+                    names.join(", ")
+                )
+            })?;
+    }
+    Ok(Some(cols))
+}
+
+/// The point in columns `cols` of the CSV line `line`.
+fn csv_point(line: &str, cols: [usize; 3], place: &str) -> Result<[f64; 3]> {
+    let fields: Vec<&str> = line
+        .split(',')
+        .map(|f| f.trim().trim_matches('"'))
+        .collect();
+    let mut p = [0.0; 3];
+    for (k, &c) in cols.iter().enumerate() {
+        let t = fields.get(c).ok_or_else(|| {
+            anyhow!(
+                "{place}: {} fields, but the header puts {} in column {}",
+                fields.len(),
+                ["x", "y", "z"][k],
+                c + 1
+            )
+        })?;
+        p[k] = t
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| anyhow!("{place}, column {}: '{t}' is not a finite number", c + 1))?;
+    }
+    Ok(p)
+}
+
 /// The points the options name, in order.
 pub fn gather_points(specs: &[String]) -> Result<Vec<[f64; 3]>> {
     let mut out = Vec::new();
@@ -67,15 +134,25 @@ pub fn gather_points(specs: &[String]) -> Result<Vec<[f64; 3]>> {
         if path.is_file() {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("{}: reading", path.display()))?;
+            // Set by a header line (the file's first): the columns of x, y and z.
+            let mut columns: Option<[usize; 3]> = None;
+            let mut first = true;
             for (i, line) in text.lines().enumerate() {
                 let line = line.split('#').next().unwrap_or("").trim();
                 if line.is_empty() {
                     continue;
                 }
-                out.push(parse_point(
-                    line,
-                    &format!("{}: line {}", path.display(), i + 1),
-                )?);
+                let place = format!("{}: line {}", path.display(), i + 1);
+                if std::mem::take(&mut first) {
+                    columns = header_columns(line, &place)?;
+                    if columns.is_some() {
+                        continue;
+                    }
+                }
+                out.push(match columns {
+                    Some(cols) => csv_point(line, cols, &place)?,
+                    None => parse_point(line, &place)?,
+                });
             }
         } else {
             for part in s.split(';').filter(|p| !p.trim().is_empty()) {
