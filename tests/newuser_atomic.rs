@@ -95,3 +95,23 @@ fn tradeoff_finds_a_folder_in_its_way_before_writing() -> Result<(), std::io::Er
     assert_eq!(dir_listing(&folder), vec!["tradeoff.csv".to_string()]);
     Ok(())
 }
+
+/// `tradeoff -o` naming an existing file said only "creating folder: File exists"; it now says
+/// that -o names a folder, and the file is left as it was.
+#[test]
+fn tradeoff_says_its_output_is_a_folder() -> Result<(), std::io::Error> {
+    let dir = tempdir();
+    let file = dir.path().join("results.png");
+    std::fs::write(&file, b"mine")?;
+    tetkit([
+        "tradeoff".as_ref(),
+        fixture("gmsh/cavity.vtk").as_os_str(),
+        "-o".as_ref(),
+        file.as_os_str(),
+        "--size".as_ref(),
+        "16x16".as_ref(),
+    ])
+    .assert_failure(&["results.png", "is a file", "-o names the folder"]);
+    assert_eq!(std::fs::read(&file)?, b"mine");
+    Ok(())
+}

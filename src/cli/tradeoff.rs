@@ -1,6 +1,6 @@
 //! `tetkit tradeoff`: every sort x integration mode against the ray-cast reference.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -89,6 +89,13 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     // The folder is made once the input is read, and taken back if anything fails after: a
     // failed run leaves no folder of partial results.
     let created = !args.output.exists();
+    if args.output.exists() && !args.output.is_dir() {
+        // create_dir_all's own message ("File exists") does not say that -o names a folder.
+        bail!(
+            "{}: is a file; -o names the folder tradeoff writes its table, plot and images into",
+            args.output.display()
+        );
+    }
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: creating folder", args.output.display()))?;
     let result = measure(args, &session, &cam, &mut progress);
