@@ -321,3 +321,49 @@ fn gmsh_reads_what_tetkit_writes() {
         );
     }
 }
+
+/// A Gmsh mesh converted to Medit lost its regions: `gmsh:physical` was dropped and every ref
+/// written 0. With no `medit:ref`, the cell refs come from `gmsh:physical` now (or VTK's
+/// `CellEntityIds`), said on stderr; a `medit:ref` stored as whole reals is taken too (it was
+/// dropped as an array Medit cannot hold).
+#[test]
+fn regions_become_refs() {
+    let dir = tempdir();
+    let src_path = fixture("msh/twobodies_41.msh");
+    let src = read(&src_path);
+    let physical = ints(&src, true, "gmsh:physical");
+    assert!(physical.iter().any(|&p| p != physical[0]), "{physical:?}");
+    let out = dir.path().join("two.mesh");
+    let r = tetkit(["convert".as_ref(), src_path.as_os_str(), out.as_os_str()]);
+    r.assert_success();
+    assert!(
+        r.stderr.contains("cell refs written from 'gmsh:physical'"),
+        "{}",
+        r.stderr
+    );
+    assert!(
+        !r.stderr.contains("cell array 'gmsh:physical'"),
+        "{}",
+        r.stderr
+    );
+    let g = read(&out);
+    assert_eq!(g.cells.types, src.cells.types);
+    assert_eq!(ints(&g, true, "medit:ref"), physical);
+
+    // Refs kept as Float64 (whole numbers) by another tool.
+    let mut grid = src.clone();
+    grid.cell_data.arrays.clear();
+    grid.cell_data.insert(tetkit::formats::DataArray::new(
+        "medit:ref",
+        1,
+        ArrayData::Float64(physical.iter().map(|&p| p as f64 + 10.0).collect()),
+    ));
+    let vtu = dir.path().join("float_refs.vtu");
+    formats::write(&vtu, &grid, &Default::default()).unwrap();
+    let out = dir.path().join("float_refs.mesh");
+    let r = tetkit(["convert".as_ref(), vtu.as_os_str(), out.as_os_str()]);
+    r.assert_success();
+    assert!(!r.stderr.contains("'medit:ref'"), "{}", r.stderr);
+    let want: Vec<i64> = physical.iter().map(|&p| p + 10).collect();
+    assert_eq!(ints(&read(&out), true, "medit:ref"), want);
+}

@@ -23,8 +23,9 @@
 //!
 //! Writing (`write`): `MeshVersionFormatted 2`, `Dimension 3`, vertices and the cell sections in
 //! the order their types first appear in the grid (so a Medit file read and written keeps its
-//! layout), refs from the integer arrays `medit:ref` (0 without them; a ref beyond 32 bits fails
-//! the write), and the corner, required and ridge sections from the arrays the reader makes (when
+//! layout), refs from the arrays `medit:ref` (integers, or reals that are all whole; 0 without
+//! them; a ref beyond 32 bits fails the write; cell refs from `gmsh:physical` or `CellEntityIds`
+//! when there is no `medit:ref`, said on stderr), and the corner, required and ridge sections from the arrays the reader makes (when
 //! the mesh has no edges or other cells to flag, they go over an empty `Edges` section, so every
 //! file the reader accepts reads back as the same grid). Voxels and pixels are written as the hexahedra
 //! and quads they are (reordered); other cell types (vertices, polylines, polygons, quadratic

@@ -27,6 +27,39 @@ fn int_array<'g>(arrays: &'g [DataArray], name: &str) -> Option<&'g DataArray> {
     })
 }
 
+/// A one-component array of whole numbers named `name`: an integer array, or a float one whose
+/// every value is whole (what a tool that stores everything as reals writes, meshio's
+/// `medit:ref` read back from some formats, say), so the refs it holds are not dropped as
+/// "an array Medit cannot hold".
+fn whole_array<'g>(arrays: &'g [DataArray], name: &str) -> Option<&'g DataArray> {
+    int_array(arrays, name).or_else(|| {
+        arrays.iter().find(|a| {
+            a.name == name
+                && a.components == 1
+                && a.data.scalar_type().is_some_and(|t| t.is_float())
+                && (0..a.data.len()).all(|i| {
+                    let v = a.data.get_f64(i);
+                    v.fract() == 0.0 && v.is_finite()
+                })
+        })
+    })
+}
+
+/// The cell array the cell refs come from, and its name when it is not `medit:ref`: Medit's own,
+/// else the regions another format gave (Gmsh's physical groups, the `CellEntityIds` of VTK
+/// files from Gmsh or FEniCS), which are what a Medit ref holds.
+fn cell_ref_source(cd: &[DataArray]) -> (Option<&DataArray>, Option<&'static str>) {
+    if let Some(a) = whole_array(cd, names::REF) {
+        return (Some(a), None);
+    }
+    for name in [crate::msh::names::PHYSICAL, "CellEntityIds"] {
+        if let Some(a) = whole_array(cd, name) {
+            return (Some(a), Some(name));
+        }
+    }
+    (None, None)
+}
+
 /// Values of an integer ref array as i32 (Medit refs are `int`), or an error naming the first
 /// that does not fit.
 fn refs(a: Option<&DataArray>, n: usize, what: &str) -> Result<Vec<i32>> {
@@ -86,8 +119,10 @@ pub fn write(w: &mut dyn Write, grid: &Grid, label: &Path) -> Result<()> {
     let np = grid.num_points();
     let pd = &grid.point_data.arrays;
     let cd = &grid.cell_data.arrays;
-    let vref = refs(int_array(pd, names::REF), np, "point")?;
-    let cref = refs(int_array(cd, names::REF), n, "cell")?;
+    let vref_src = whole_array(pd, names::REF);
+    let (cref_src, cref_from) = cell_ref_source(cd);
+    let vref = refs(vref_src, np, "point")?;
+    let cref = refs(cref_src, n, "cell")?;
     let corner = int_array(pd, names::CORNER);
     let vrequired = int_array(pd, names::REQUIRED);
     let ridge = int_array(cd, names::RIDGE);
@@ -99,12 +134,12 @@ pub fn write(w: &mut dyn Write, grid: &Grid, label: &Path) -> Result<()> {
         set.iter().any(|k| k.is_some_and(|k| std::ptr::eq(k, a)))
     };
     for a in pd {
-        if !kept(a, &[int_array(pd, names::REF), corner, vrequired]) {
+        if !kept(a, &[vref_src, corner, vrequired]) {
             lost.push(format!("point array '{}'", a.name));
         }
     }
     for a in cd {
-        if !kept(a, &[int_array(cd, names::REF), ridge, crequired]) {
+        if !kept(a, &[cref_src, ridge, crequired]) {
             lost.push(format!("cell array '{}'", a.name));
         }
     }
@@ -233,6 +268,14 @@ pub fn write(w: &mut dyn Write, grid: &Grid, label: &Path) -> Result<()> {
     }
     writeln!(out, "\nEnd").map_err(io)?;
     out.flush().map_err(io)?;
+    if let Some(name) = cref_from {
+        eprintln!(
+            "tetkit: note: {}: cell refs written from '{name}' (the mesh has no '{}'); they read back as '{}'",
+            label.display(),
+            names::REF,
+            names::REF
+        );
+    }
     if voxels > 0 {
         eprintln!(
             "tetkit: note: {}: {voxels} voxels/pixels written as Medit hexahedra/quadrilaterals (read back as such)",
