@@ -109,23 +109,54 @@ fn what_tetgen_cannot_hold_is_named_not_silently_dropped() {
 
 /// What a `.face` line and TetGen's reals cannot hold is named too: a Gmsh mesh's boundary
 /// triangles lost their `gmsh:physical` (only `boundary_marker` goes to `.face`) and Int64
-/// values past 2^53 came back rounded, both without a word.
+/// values past 2^53 came back rounded, both without a word. Without a `boundary_marker`, the
+/// triangles' `gmsh:physical` is now written as their `.face` markers (their physical surfaces
+/// are what TetGen's boundary markers hold); other cell arrays on them are still named.
 #[test]
 fn face_arrays_and_huge_integers_are_named_when_tetgen_cannot_hold_them() {
     let dir = tempdir();
     let out = dir.path().join("b.node");
+    let src = formats::read(&fixture("msh/twobodies_41.msh")).unwrap();
     let r = tetkit([
         "convert".as_ref(),
-        fixture("msh/block_hole_41.msh").as_os_str(),
+        fixture("msh/twobodies_41.msh").as_os_str(),
         out.as_os_str(),
     ]);
     r.assert_success();
     assert!(
         r.stderr
-            .contains("cell array 'gmsh:physical' on the 280 boundary triangles"),
+            .contains("gmsh:physical written as their .face markers"),
         "{}",
         r.stderr
     );
+    assert!(
+        !r.stderr.contains("cell array 'gmsh:physical' on"),
+        "{}",
+        r.stderr
+    );
+    assert!(
+        r.stderr
+            .contains("cell array 'gmsh:geometrical' on the 26 boundary triangles"),
+        "{}",
+        r.stderr
+    );
+    // The triangles read back with their physical surfaces as boundary markers.
+    let back = formats::read(&dir.path().join("b.ele")).unwrap();
+    let tri = |g: &formats::Grid| -> Vec<usize> {
+        (0..g.num_cells())
+            .filter(|&i| g.cells.types[i] == formats::cell_type::TRIANGLE)
+            .collect()
+    };
+    let (ts, tb) = (tri(&src), tri(&back));
+    assert_eq!(ts.len(), 26);
+    assert_eq!(tb.len(), 26);
+    let phys = src.cell_data.get("gmsh:physical").unwrap();
+    let marker = back.cell_data.get("boundary_marker").unwrap();
+    let want: Vec<f64> = ts.iter().map(|&i| phys.data.get_f64(i)).collect();
+    let got: Vec<f64> = tb.iter().map(|&i| marker.data.get_f64(i)).collect();
+    assert_eq!(got, want);
+    // Gmsh's physical tags start at 1: a marker of 0 would be TetGen's "none".
+    assert!(want.iter().all(|&v| v >= 1.0), "{want:?}");
     let mut g = formats::read(&fixture("tetgen/torus.1.ele")).unwrap();
     let n = g.num_points();
     g.point_data.insert(formats::DataArray::new(

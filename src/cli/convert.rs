@@ -182,12 +182,24 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
             .iter()
             .filter(|&&t| matches!(t, ct::TRIANGLE | ct::QUADRATIC_TRIANGLE))
             .count();
+        // Without `boundary_marker`, the triangles' `gmsh:physical` is written as their markers.
+        let markers = grid
+            .cell_data
+            .get("boundary_marker")
+            .map(|_| "boundary_marker")
+            .or_else(|| formats::tetgen::face_regions(&grid).map(|a| a.name.as_str()));
+        if let (true, Some("gmsh:physical")) = (faces > 0, markers) {
+            eprintln!(
+                "tetkit: note: {}: the boundary triangles' gmsh:physical written as their .face markers (read back as boundary_marker)",
+                output.display()
+            );
+        }
         if faces > 0 {
             lost.extend(
                 grid.cell_data
                     .arrays
                     .iter()
-                    .filter(|a| a.data.scalar_type().is_some() && a.name != "boundary_marker")
+                    .filter(|a| a.data.scalar_type().is_some() && Some(a.name.as_str()) != markers)
                     .map(|a| {
                         format!(
                             "cell array '{}' on the {faces} boundary triangles (a .face line holds only boundary_marker)",

@@ -17,7 +17,8 @@
 //! every numeric point array becomes node attribute columns, one per component, and every
 //! numeric cell array except `boundary_marker` and `neighbors` becomes `.ele` attribute columns,
 //! `region` first); the values of cell arrays on boundary triangles other than `boundary_marker`
-//! (a `.face` line holds only that marker); all values as decimal reals, so types are not kept (a reread gives Float64)
+//! (a `.face` line holds only that marker; without `boundary_marker`, a Gmsh mesh's
+//! `gmsh:physical` is written there, so its physical surfaces become the face markers); all values as decimal reals, so types are not kept (a reread gives Float64)
 //! and integers beyond 2^53 are rounded (`convert` names each such array on stderr); `neighbors` is written as `.neigh` (each tet's
 //! neighbours by their `.ele` numbers) when every entry is -1 or a tet of the mesh, else as
 //! `.ele` attribute columns like any other array.
@@ -27,7 +28,7 @@ mod records;
 mod write;
 
 pub use read::{read, read_parts};
-pub use write::write;
+pub use write::{face_regions, write};
 
 /// Array names the reader gives and the writer looks for.
 pub mod names {

@@ -88,6 +88,15 @@ fn is_integer(a: &DataArray) -> bool {
     a.data.scalar_type().is_some_and(|t| !t.is_float())
 }
 
+/// The cell array whose values a `.face` line's marker takes when the mesh has no
+/// `boundary_marker`: Gmsh's `gmsh:physical`, one integer per cell.
+pub fn face_regions(grid: &Grid) -> Option<&DataArray> {
+    grid.cell_data
+        .arrays
+        .iter()
+        .find(|a| a.name == crate::msh::names::PHYSICAL && a.components == 1 && is_integer(a))
+}
+
 impl<'g> Plan<'g> {
     fn new(grid: &'g Grid) -> Result<Plan<'g>> {
         let mut plan = Plan {
@@ -158,6 +167,12 @@ impl<'g> Plan<'g> {
             } else if a.data.scalar_type().is_some() {
                 plan.ele_attrs.push(a);
             }
+        }
+        if plan.face_marker.is_none() && !plan.faces.is_empty() {
+            // A Gmsh mesh's boundary triangles carry their physical surface in
+            // `gmsh:physical`: what a `.face` marker holds (the tets keep theirs as an
+            // attribute column, below).
+            plan.face_marker = face_regions(grid);
         }
         plan.ele_attrs.sort_by_key(|a| a.name != names::REGION);
         Ok(plan)
