@@ -545,7 +545,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let cam0 = session
         .bounds_camera(&cam_args)
-        .with_context(|| format!("{}", args.input.display()))?;
+        .with_context(|| match &scene {
+            // The scene's [camera] filled some of it: say so, since the message names options.
+            Some(s) if s.camera != crate::scene::CameraSpec::default() => format!(
+                "{} (camera with the [camera] of {})",
+                args.input.display(),
+                s.file.display()
+            ),
+            _ => format!("{}", args.input.display()),
+        })?;
     if cam0.parallel {
         // Parallel rays are drawn whole, from behind the mesh's box: what lies behind the
         // camera's position is drawn too, where VTK and ParaView clip at a near plane in front
