@@ -76,7 +76,8 @@ pub struct LookArgs {
     #[arg(long, default_value = "512x512", value_parser = parse_size_arg)]
     pub size: (u32, u32),
     /// Array to render (point data, else cell data; `cell:NAME` for a cell array that shares
-    /// its name with a point array; vectors by magnitude). Default: active point scalars, else
+    /// its name with a point array; vectors by magnitude, or one component: `v:X`, `v:0`,
+    /// `v:Magnitude`, a component's name). Default: active point scalars, else
     /// the first numeric array.
     #[arg(long, value_name = "NAME")]
     pub scalar: Option<String>,
