@@ -90,3 +90,36 @@ fn preset_keys_tetkit_does_not_draw_are_named() {
     ]);
     assert!(!png.exists());
 }
+
+/// ParaView's names of the maps tetkit has ("Cool to Warm" was an unknown colormap).
+#[test]
+fn paraview_colormap_names_are_taken() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = tempdir();
+    let input = fixture("gmsh/lshape.vtk");
+    let draw = |map: Option<&str>, png: &std::path::Path| {
+        let mut a = vec![
+            "render".to_string(),
+            input.to_string_lossy().into_owned(),
+            "-o".into(),
+            png.to_string_lossy().into_owned(),
+            "--size".into(),
+            "32x32".into(),
+            "-q".into(),
+        ];
+        if let Some(m) = map {
+            a.extend(["--colormap".to_string(), m.to_string()]);
+        }
+        tetkit(a)
+    };
+    let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    draw(None, &a).assert_success();
+    draw(Some("Cool to Warm"), &b).assert_success();
+    assert_eq!(std::fs::read(&a)?, std::fs::read(&b)?);
+    draw(Some("viridis"), &a).assert_success();
+    draw(Some("Viridis (matplotlib)"), &b).assert_success();
+    assert_eq!(std::fs::read(&a)?, std::fs::read(&b)?);
+    let c = dir.path().join("c.png");
+    draw(Some("Jet"), &c).assert_failure(&["unknown colormap 'Jet'", "Choose Preset"]);
+    assert!(!c.exists());
+    Ok(())
+}

@@ -48,7 +48,29 @@ pub enum ColorSource {
 /// Named colormaps: ParaView's default "Cool to Warm" (Moreland's diverging map, sampled) plus
 /// every `colorous` gradient by lower-case name with `-` or `_`.
 pub fn named_colormap(name: &str) -> Result<ColorSource> {
-    let key = name.to_ascii_lowercase().replace('_', "-");
+    // ParaView's preset names too: "Cool to Warm", "Viridis (matplotlib)", "X Ray".
+    let lower = name.trim().to_ascii_lowercase();
+    let key = lower
+        .strip_suffix("(matplotlib)")
+        .unwrap_or(&lower)
+        .trim()
+        .replace(['_', ' '], "-");
+    // ParaView's two grey ramps, linear in RGB.
+    match key.as_str() {
+        "grayscale" => {
+            return Ok(ColorSource::Relative(vec![
+                (0.0, [0.0; 3]),
+                (1.0, [1.0; 3]),
+            ]))
+        }
+        "x-ray" => {
+            return Ok(ColorSource::Relative(vec![
+                (0.0, [1.0; 3]),
+                (1.0, [0.0; 3]),
+            ]))
+        }
+        _ => {}
+    }
     if key == "cool-to-warm" || key == "coolwarm" {
         // Moreland's diverging map sampled at 9 points (sRGB), so RGB interpolation stays close
         // to ParaView's diverging interpolation.
@@ -95,7 +117,9 @@ pub fn named_colormap(name: &str) -> Result<ColorSource> {
         _ => bail!(
             "unknown colormap '{name}' (try viridis, cool-to-warm, inferno, magma, plasma, cividis, turbo, \
              warm, cool, cubehelix, spectral, red-blue, rainbow, sinebow, greys, blues, reds, greens, \
-             oranges, purples, yellow-orange-red, or a ParaView preset .json)"
+             oranges, purples, yellow-orange-red, ParaView's Cool to Warm, Grayscale, X Ray and \
+             the (matplotlib) ones by their names, or a ParaView preset .json: ParaView's Choose \
+             Preset dialog exports any other map as one)"
         ),
     };
     let n = 64;
@@ -569,6 +593,26 @@ mod tests {
         std::fs::write(&p, r#"{"RGBPoints":[0,1,0]}"#).unwrap();
         let e = read_preset(&p).unwrap_err().to_string();
         assert!(e.contains("multiple of 4"), "{e}");
+    }
+
+    #[test]
+    fn paraview_preset_names() -> Result<()> {
+        for (pv, ours) in [
+            ("Cool to Warm", "cool-to-warm"),
+            ("Viridis (matplotlib)", "viridis"),
+            ("Inferno (matplotlib)", "inferno"),
+            ("Turbo", "turbo"),
+        ] {
+            assert_eq!(named_colormap(pv)?, named_colormap(ours)?, "{pv}");
+        }
+        let tf = |n: &str| TransferFunction::build(&named_colormap(n)?, None, [0.0, 1.0], 1.0, 3);
+        assert_eq!(tf("Grayscale")?.rgb, vec![[0.0; 3], [0.5; 3], [1.0; 3]]);
+        assert_eq!(tf("X Ray")?.rgb, vec![[1.0; 3], [0.5; 3], [0.0; 3]]);
+        match named_colormap("Jet") {
+            Ok(_) => bail!("Jet accepted"),
+            Err(e) => assert!(e.to_string().contains("Choose Preset"), "{e}"),
+        }
+        Ok(())
     }
 
     #[test]
