@@ -345,6 +345,9 @@ pub fn parse_pvcc(text: &str) -> std::result::Result<Camera, (usize, String)> {
                         }
                         "CameraViewUp" => {
                             cam.up = v3(need(3)?);
+                            if cam.up == [0.0; 3] {
+                                return Err((pline, "CameraViewUp is the zero vector".into()));
+                            }
                             found[2] = true;
                         }
                         "CameraViewAngle" => {
@@ -386,6 +389,15 @@ pub fn parse_pvcc(text: &str) -> std::result::Result<Camera, (usize, String)> {
         if !found[k] {
             return Err((last, format!("property {n} is missing")));
         }
+    }
+    if cam.position == cam.focal {
+        return Err((
+            last,
+            format!(
+                "CameraPosition {:?} equals CameraFocalPoint: no view direction",
+                cam.position
+            ),
+        ));
     }
     Ok(cam)
 }

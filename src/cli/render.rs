@@ -76,7 +76,8 @@ pub struct LookArgs {
     #[arg(long, default_value = "512x512", value_parser = parse_size_arg)]
     pub size: (u32, u32),
     /// Array to render (point data, else cell data; `cell:NAME` for a cell array that shares
-    /// its name with a point array; vectors by magnitude). Default: active point scalars, else
+    /// its name with a point array; vectors by magnitude, or one component: `v:X`, `v:0`,
+    /// `v:Magnitude`, a component's name). Default: active point scalars, else
     /// the first numeric array.
     #[arg(long, value_name = "NAME")]
     pub scalar: Option<String>,
@@ -545,7 +546,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let cam0 = session
         .bounds_camera(&cam_args)
-        .with_context(|| format!("{}", args.input.display()))?;
+        .with_context(|| match &scene {
+            // The scene's [camera] filled some of it: say so, since the message names options.
+            Some(s) if s.camera != crate::scene::CameraSpec::default() => format!(
+                "{} (camera with the [camera] of {})",
+                args.input.display(),
+                s.file.display()
+            ),
+            _ => format!("{}", args.input.display()),
+        })?;
     if cam0.parallel {
         // Parallel rays are drawn whole, from behind the mesh's box: what lies behind the
         // camera's position is drawn too, where VTK and ParaView clip at a near plane in front

@@ -14,6 +14,39 @@ pub enum Field {
     Cell(Vec<f64>),
 }
 
+/// One component of `a`, named as ParaView names it: `Magnitude`, `X`/`Y`/`Z` (vectors of up
+/// to 3 components), the component's name in the file, or its index (`v:0`, as ParaView's
+/// CSV export heads the columns). `None` when `comp` names none of them.
+fn component(a: &DataArray, comp: &str) -> Result<Option<Vec<f64>>> {
+    if a.data.scalar_type().is_none() {
+        bail!("array '{}' holds strings, not numbers", a.name);
+    }
+    let c = a.components.max(1);
+    if comp.eq_ignore_ascii_case("magnitude") {
+        return values(a).map(Some);
+    }
+    let k = if let Some(k) = a.component_names.iter().position(|n| n == comp) {
+        k
+    } else if let Ok(k) = comp.parse::<usize>() {
+        if k >= c {
+            bail!(
+                "--scalar {}:{comp}: '{}' has {c} component(s), numbered from 0",
+                a.name,
+                a.name
+            );
+        }
+        k
+    } else {
+        match (comp, c) {
+            ("X" | "x", _) => 0,
+            ("Y" | "y", 2..=3) => 1,
+            ("Z" | "z", 3) => 2,
+            _ => return Ok(None),
+        }
+    };
+    Ok(Some(a.data.to_f64_vec().chunks(c).map(|t| t[k]).collect()))
+}
+
 fn values(a: &DataArray) -> Result<Vec<f64>> {
     if a.data.scalar_type().is_none() {
         bail!("array '{}' holds strings, not numbers", a.name);
@@ -54,7 +87,8 @@ const BOOKKEEPING: [&str; 16] = [
 
 impl Field {
     /// The array named `name` (point data first, then cell data; `point:NAME` or `cell:NAME`
-    /// for one of two arrays of that name; `coord:x|y|z|r` for a field of the point coordinates), or without a name the active point scalars, else the first numeric
+    /// for one of two arrays of that name; `NAME:X`, `NAME:0`, `NAME:Magnitude` for one
+    /// component; `coord:x|y|z|r` for a field of the point coordinates), or without a name the active point scalars, else the first numeric
     /// point array, else the first numeric cell array (ids in [`BOOKKEEPING`] passed over), else
     /// a constant (solid colour).
     pub fn select(mesh: &TetMesh, name: Option<&str>) -> Result<(String, Field)> {
@@ -96,6 +130,31 @@ impl Field {
             }
             if let Some(a) = n.strip_prefix("cell:").and_then(|m| mesh.cell_data.get(m)) {
                 return Ok((n.to_string(), Field::Cell(values(a)?)));
+            }
+            // One component: `v:X`, `v:0`, `v:Magnitude`, `cell:v:Y` (ParaView's "Color By"
+            // component menu); the whole name was looked up first, so `gmsh:physical` stays.
+            if let Some((base, comp)) = n.rsplit_once(':') {
+                let (p, c) = match base.split_once(':') {
+                    Some(("point", m)) => (mesh.point_data.get(m), None),
+                    Some(("cell", m)) => (None, mesh.cell_data.get(m)),
+                    _ => (mesh.point_data.get(base), mesh.cell_data.get(base)),
+                };
+                if let Some(a) = p {
+                    if let Some(v) = component(a, comp)? {
+                        return Ok((n.to_string(), Field::Point(v)));
+                    }
+                } else if let Some(a) = c {
+                    if let Some(v) = component(a, comp)? {
+                        return Ok((n.to_string(), Field::Cell(v)));
+                    }
+                }
+                if let Some(a) = p.or(c) {
+                    bail!(
+                        "--scalar {n}: '{comp}' is not a component of '{}' ({} components): give Magnitude, X, Y or Z (up to 3 components), a component name, or an index from 0",
+                        a.name,
+                        a.components.max(1)
+                    );
+                }
             }
             let names: Vec<String> = mesh
                 .point_data
@@ -279,6 +338,51 @@ mod tests {
             tets: vec![[0, 1, 2, 3]],
             ..TetMesh::default()
         }
+    }
+
+    #[test]
+    fn one_component_by_paraview_name_or_index() -> Result<()> {
+        let mut m = one_tet();
+        let v: Vec<f64> = (0..4).flat_map(|i| [i as f64, 3.0, 4.0]).collect();
+        m.point_data
+            .insert(DataArray::new("v", 3, ArrayData::Float64(v)));
+        let mut t = DataArray::new("t", 2, ArrayData::Float64(vec![5.0, 6.0]));
+        t.component_names = vec!["lo".into(), "hi".into()];
+        m.cell_data.insert(t);
+        m.cell_data.insert(DataArray::new(
+            "gmsh:physical",
+            1,
+            ArrayData::Int32(vec![2]),
+        ));
+        let tet = m.tets[0];
+        for (n, want) in [
+            ("v:X", [0.0, 1.0, 2.0, 3.0]),
+            ("v:0", [0.0, 1.0, 2.0, 3.0]),
+            ("v:Z", [4.0; 4]),
+            ("point:v:1", [3.0; 4]),
+            (
+                "v:Magnitude",
+                [5.0, 26f64.sqrt(), 29f64.sqrt(), 34f64.sqrt()],
+            ),
+            ("t:hi", [6.0; 4]),
+            ("cell:t:Y", [6.0; 4]),
+            ("gmsh:physical", [2.0; 4]),
+        ] {
+            let (name, f) = Field::select(&m, Some(n))?;
+            assert_eq!((name.as_str(), f.at(0, &tet)), (n, want));
+        }
+        for (n, needle) in [
+            ("v:3", "3 component(s)"),
+            ("v:W", "'W' is not a component of 'v'"),
+            ("t:Z", "'Z' is not a component of 't'"),
+            ("w:X", "no such array"),
+        ] {
+            match Field::select(&m, Some(n)) {
+                Ok(_) => bail!("{n} accepted"),
+                Err(e) => assert!(e.to_string().contains(needle), "{n}: {e}"),
+            }
+        }
+        Ok(())
     }
 
     #[test]

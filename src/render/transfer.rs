@@ -48,7 +48,29 @@ pub enum ColorSource {
 /// Named colormaps: ParaView's default "Cool to Warm" (Moreland's diverging map, sampled) plus
 /// every `colorous` gradient by lower-case name with `-` or `_`.
 pub fn named_colormap(name: &str) -> Result<ColorSource> {
-    let key = name.to_ascii_lowercase().replace('_', "-");
+    // ParaView's preset names too: "Cool to Warm", "Viridis (matplotlib)", "X Ray".
+    let lower = name.trim().to_ascii_lowercase();
+    let key = lower
+        .strip_suffix("(matplotlib)")
+        .unwrap_or(&lower)
+        .trim()
+        .replace(['_', ' '], "-");
+    // ParaView's two grey ramps, linear in RGB.
+    match key.as_str() {
+        "grayscale" => {
+            return Ok(ColorSource::Relative(vec![
+                (0.0, [0.0; 3]),
+                (1.0, [1.0; 3]),
+            ]))
+        }
+        "x-ray" => {
+            return Ok(ColorSource::Relative(vec![
+                (0.0, [1.0; 3]),
+                (1.0, [0.0; 3]),
+            ]))
+        }
+        _ => {}
+    }
     if key == "cool-to-warm" || key == "coolwarm" {
         // Moreland's diverging map sampled at 9 points (sRGB), so RGB interpolation stays close
         // to ParaView's diverging interpolation.
@@ -95,7 +117,9 @@ pub fn named_colormap(name: &str) -> Result<ColorSource> {
         _ => bail!(
             "unknown colormap '{name}' (try viridis, cool-to-warm, inferno, magma, plasma, cividis, turbo, \
              warm, cool, cubehelix, spectral, red-blue, rainbow, sinebow, greys, blues, reds, greens, \
-             oranges, purples, yellow-orange-red, or a ParaView preset .json)"
+             oranges, purples, yellow-orange-red, ParaView's Cool to Warm, Grayscale, X Ray and \
+             the (matplotlib) ones by their names, or a ParaView preset .json: ParaView's Choose \
+             Preset dialog exports any other map as one)"
         ),
     };
     let n = 64;
@@ -115,8 +139,12 @@ pub fn named_colormap(name: &str) -> Result<ColorSource> {
 /// Reads a ParaView colormap preset (the JSON ParaView's "Export preset" writes: a list of
 /// objects with `RGBPoints` as x,r,g,b quadruples, optionally `Points` as x,a,mid,sharpness and
 /// `ColorSpace`, which says how colours mix between points; see [`ColorSpace`]). Colours and
-/// opacities outside [0, 1] are refused. Midpoint and sharpness other than 0.5/0 are not
-/// modelled: opacity is linear between points.
+/// opacities outside [0, 1] are refused. An opacity point's midpoint is modelled as
+/// vtkPiecewiseFunction does with sharpness 0 (half-way between the two values at that fraction
+/// of the interval); a sharpness above that is drawn as sharpness 0 with a warning, as are
+/// `UseLogScale` (colours are mapped linearly) and a file of several presets (the first with
+/// `RGBPoints` is used, the warning names it). A categorical preset (`IndexedColors`, no
+/// `RGBPoints`) is refused by name.
 pub fn read_preset(path: &Path) -> Result<ColorSource> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("{}: reading", path.display()))?;
@@ -130,18 +158,51 @@ pub fn read_preset(path: &Path) -> Result<ColorSource> {
             e.column()
         )
     })?;
+    let name_of = |o: &serde_json::Value| {
+        o.get("Name")
+            .and_then(|n| n.as_str())
+            .unwrap_or("preset")
+            .to_string()
+    };
     let obj = match &v {
-        serde_json::Value::Array(a) => a
-            .iter()
-            .find(|o| o.get("RGBPoints").is_some())
-            .ok_or_else(|| anyhow!("{}: no preset with RGBPoints in the list", path.display()))?,
+        serde_json::Value::Array(a) => {
+            let Some(obj) = a.iter().find(|o| o.get("RGBPoints").is_some()) else {
+                // ParaView's categorical presets ("Interpret Values As Categories") hold
+                // IndexedColors and Annotations instead of RGBPoints.
+                if let Some(c) = a.iter().find(|o| o.get("IndexedColors").is_some()) {
+                    bail!(
+                        "{}: preset '{}' is categorical (IndexedColors, ParaView's 'Interpret Values As Categories'), which tetkit does not draw; export a preset with RGBPoints",
+                        path.display(),
+                        name_of(c)
+                    );
+                }
+                bail!("{}: no preset with RGBPoints in the list", path.display());
+            };
+            if a.len() > 1 {
+                let others: Vec<String> = a
+                    .iter()
+                    .filter(|o| !std::ptr::eq(*o, obj))
+                    .map(name_of)
+                    .collect();
+                eprintln!(
+                    "tetkit: warning: {}: {} presets in the file; using '{}', the first with RGBPoints (not {})",
+                    path.display(),
+                    a.len(),
+                    name_of(obj),
+                    others.join(", ")
+                );
+            }
+            obj
+        }
         o => o,
     };
-    let name = obj
-        .get("Name")
-        .and_then(|n| n.as_str())
-        .unwrap_or("preset")
-        .to_string();
+    let name = name_of(obj);
+    if obj.get("UseLogScale").and_then(|b| b.as_bool()) == Some(true) {
+        eprintln!(
+            "tetkit: warning: {}: {name}: UseLogScale is not supported: colours and opacity are mapped linearly over the range",
+            path.display()
+        );
+    }
     let nums = |key: &str| -> Result<Option<Vec<f64>>> {
         match obj.get(key) {
             None => Ok(None),
@@ -222,11 +283,29 @@ pub fn read_preset(path: &Path) -> Result<ColorSource> {
                             c[1]
                         );
                     }
+                    if !((0.0..=1.0).contains(&c[2]) && (0.0..=1.0).contains(&c[3])) {
+                        bail!(
+                            "{}: {name}.Points: point {i} (x = {}) has midpoint {} and sharpness {}, expected both in [0, 1]",
+                            path.display(),
+                            c[0],
+                            c[2],
+                            c[3]
+                        );
+                    }
                     Ok((c[0], c[1]))
                 })
                 .collect::<Result<_>>()?;
             check_increasing(pts.iter().map(|c| c.0), path, &name, "Points")?;
-            Some(pts)
+            let quads: Vec<&[f64]> = p.chunks(4).collect();
+            if let Some(i) = quads[..quads.len() - 1].iter().position(|c| c[3] >= 0.01) {
+                eprintln!(
+                    "tetkit: warning: {}: {name}.Points: point {i} (x = {}) has sharpness {}: drawn with sharpness 0 (the midpoint kept, linear on either side of it)",
+                    path.display(),
+                    quads[i][0],
+                    quads[i][3]
+                );
+            }
+            Some(with_midpoints(&quads))
         }
     };
     Ok(ColorSource::Preset {
@@ -234,6 +313,22 @@ pub fn read_preset(path: &Path) -> Result<ColorSource> {
         colors,
         opacity,
     })
+}
+
+/// Opacity points `(x, a)` from ParaView's `x, a, midpoint, sharpness` quadruples: between
+/// point i and i + 1, vtkPiecewiseFunction with sharpness 0 reaches the mean of the two values
+/// at `x_i + midpoint_i (x_{i+1} - x_i)` and is linear on either side (0.5 adds nothing).
+fn with_midpoints(quads: &[&[f64]]) -> OpacityPoints {
+    let mut out = Vec::with_capacity(2 * quads.len());
+    for (i, c) in quads.iter().enumerate() {
+        out.push((c[0], c[1]));
+        if let Some(n) = quads.get(i + 1) {
+            if c[2] != 0.5 && n[0] > c[0] {
+                out.push((c[0] + c[2] * (n[0] - c[0]), 0.5 * (c[1] + n[1])));
+            }
+        }
+    }
+    out
 }
 
 fn check_increasing(
@@ -498,6 +593,65 @@ mod tests {
         std::fs::write(&p, r#"{"RGBPoints":[0,1,0]}"#).unwrap();
         let e = read_preset(&p).unwrap_err().to_string();
         assert!(e.contains("multiple of 4"), "{e}");
+    }
+
+    #[test]
+    fn paraview_preset_names() -> Result<()> {
+        for (pv, ours) in [
+            ("Cool to Warm", "cool-to-warm"),
+            ("Viridis (matplotlib)", "viridis"),
+            ("Inferno (matplotlib)", "inferno"),
+            ("Turbo", "turbo"),
+        ] {
+            assert_eq!(named_colormap(pv)?, named_colormap(ours)?, "{pv}");
+        }
+        let tf = |n: &str| TransferFunction::build(&named_colormap(n)?, None, [0.0, 1.0], 1.0, 3);
+        assert_eq!(tf("Grayscale")?.rgb, vec![[0.0; 3], [0.5; 3], [1.0; 3]]);
+        assert_eq!(tf("X Ray")?.rgb, vec![[1.0; 3], [0.5; 3], [0.0; 3]]);
+        match named_colormap("Jet") {
+            Ok(_) => bail!("Jet accepted"),
+            Err(e) => assert!(e.to_string().contains("Choose Preset"), "{e}"),
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn preset_opacity_midpoint_as_vtk() -> Result<()> {
+        let dir = tempfile::tempdir()?;
+        let p = dir.path().join("m.json");
+        // vtkPiecewiseFunction AddPoint(0, 0, 0.8, 0), AddPoint(1, 1): 0.125 at 0.2, 0.5 at 0.8,
+        // 0.75 at 0.9 (VTK 9.1).
+        std::fs::write(
+            &p,
+            r#"[{"Name":"m","RGBPoints":[0,0,0,0, 1,1,1,1],"Points":[0,0,0.8,0, 1,1,0.5,0]}]"#,
+        )?;
+        let ColorSource::Preset {
+            opacity: Some(pts), ..
+        } = read_preset(&p)?
+        else {
+            bail!("no opacity read");
+        };
+        for (x, want) in [
+            (0.2, 0.125),
+            (0.4, 0.25),
+            (0.8, 0.5),
+            (0.9, 0.75),
+            (1.0, 1.0),
+        ] {
+            let p1: Vec<(f64, [f64; 1])> = pts.iter().map(|(x, a)| (*x, [*a])).collect();
+            let got = lerp_points(&p1, x)[0];
+            assert!((got - want).abs() < 1e-12, "at {x}: {got} != {want}");
+        }
+        std::fs::write(
+            &p,
+            r#"[{"Name":"m","RGBPoints":[0,0,0,0, 1,1,1,1],"Points":[0,0,1.5,0, 1,1,0.5,0]}]"#,
+        )?;
+        let e = read_preset(&p)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(e.contains("midpoint 1.5"), "{e}");
+        Ok(())
     }
 
     #[test]

@@ -157,6 +157,9 @@ fn camera(c: RawCamera, at: &At, pos: usize) -> Result<CameraSpec, FormatError> 
             }
         }
     }
+    if c.up == Some([0.0; 3]) {
+        return Err(at(pos, "camera up = [0, 0, 0]: the zero vector".into()));
+    }
     if let (Some(p), Some(f)) = (c.position, c.focal) {
         if p == f {
             return Err(at(
