@@ -564,7 +564,7 @@ mod x86 {
             // SAFETY: the CPU has AVX-512F and VL (the caller's promise). `i` and `j` are lanes
             // of `todo`, below `L`. Both bases are in the table as in [`entry`], so every
             // 32-byte read from `q + o` lies in it; `at[i]` and `at[j]` are distinct pixels
-            // inside `buf` (checked by `takers`), `po` their byte offsets.
+            // inside `buf` (checked above), `po` their byte offsets.
             unsafe {
                 let (qi, qj) = (
                     data.byte_add(*qo.get_unchecked(i)),
