@@ -361,9 +361,10 @@ mod tests {
         g.point_data
             .arrays
             .push(DataArray::new("T", 1, ArrayData::Float64(vec![1.0; 4])));
+        // Reals that are not whole are no refs (whole ones are taken: tests/medit_fixtures.rs).
         g.cell_data
             .arrays
-            .push(DataArray::new(names::REF, 1, ArrayData::Float64(vec![3.0])));
+            .push(DataArray::new(names::REF, 1, ArrayData::Float64(vec![3.5])));
         let text = to_text(&g).unwrap();
         assert!(
             text.contains("\n0.1 0.0 0.0 0\n") || text.contains("0.0 0.0 0.1 0\n"),

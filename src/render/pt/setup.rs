@@ -350,31 +350,25 @@ pub(crate) fn setup_tet_unless(
     let big_front = (vside > 0.0) != (eside > 0.0);
     let big_pos = d[big] > 0;
     let (mut nf, mut nb) = (0, 0);
-    // The depth planes go through the snapped corners, the same the silhouette and its edge
-    // functions are built from: where a face is seen nearly edge-on, a pixel centre within the
-    // snap of its line is then inside the tet the planes say it is in. Planes through the
-    // unsnapped corners gave that pixel to the silhouette of one tet and the chord to its
-    // neighbour, so the ray lost the whole stretch it runs along the face.
     let (mut fx, mut fy, mut fw) = ([[0f64; 4]; 3], [[0f64; 4]; 3], [[0f64; 4]; 3]);
-    let snapped = |v: i64| v as f64 / SUB as f64;
     for (i, f) in FACES.iter().enumerate() {
         for j in 0..3 {
-            fx[j][i] = snapped(pv[f[j]].fx);
-            fy[j][i] = snapped(pv[f[j]].fy);
+            fx[j][i] = pv[f[j]].px;
+            fy[j][i] = pv[f[j]].py;
             fw[j][i] = wv[f[j]] - w0;
         }
     }
-    let (pl, _, fit) = plane_fits(&fx, &fy, &fw, ox, oy);
+    let (pl, area, fit) = plane_fits(&fx, &fy, &fw, ox, oy);
     // Per face: 0 unused, 1 front, 2 back.
     let mut side = [0u8; 4];
     for i in 0..4 {
         if d[i] == 0 || !fit[i] {
             continue;
         }
-        // Front or back by the snapped projection the plane was fitted to (its exact area
-        // `d`, the sign the silhouette was built from), so the planes and the silhouette are
-        // one projected tet.
-        if (d[i] > 0) == (big_pos == big_front) {
+        // Front or back by the unsnapped projection the plane was fitted to: a face seen nearly
+        // edge-on can change sign on the fixed-point grid, and a flipped steep plane would cut
+        // the whole tet away.
+        if (area[i] > 0.0) == (big_pos == big_front) {
             side[i] = 1;
             nf += 1;
         } else {

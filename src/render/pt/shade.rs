@@ -873,51 +873,79 @@ pub(crate) mod tests {
         }
     }
 
+    /// A random batch of `L` fragments for `table` over `npix` pixels, `stride` apart (so
+    /// distinct), some already (nearly) opaque, one now and then NaN.
+    #[allow(clippy::type_complexity)]
+    fn random_batch<const L: usize>(
+        r: &mut Rng,
+        table: &PreintTable,
+        npix: usize,
+        stride: usize,
+    ) -> ([[f32; L]; 3], [usize; L], Vec<[f32; 4]>) {
+        let mut f = [[0f32; L]; 3];
+        for (k, lanes) in f.iter_mut().enumerate() {
+            // Lengths up to three times the table's axis: long lanes take `segment`.
+            let hi = if k < 2 { 3.0 } else { 3.0 * table.lmax as f32 };
+            for v in lanes.iter_mut() {
+                *v = value(r, if k < 2 { -1.0 } else { 0.0 }, hi);
+            }
+        }
+        let mut at = [0usize; L];
+        let start = (r.next() * npix as f32) as usize;
+        for (i, a) in at.iter_mut().enumerate() {
+            *a = (start + stride * i) % npix;
+        }
+        let mut buf = vec![[0f32; 4]; npix];
+        for p in buf.iter_mut() {
+            let a = match (r.next() * 6.0) as usize {
+                0 => 0.0,
+                1 => OPAQUE,
+                2 => 1.0,
+                3 if r.next() < 0.05 => f32::NAN,
+                // Just below opaque: a fragment can take it past.
+                4 => OPAQUE - r.next() * 0.01,
+                _ => r.next(),
+            };
+            *p = [r.next() * a, r.next() * a, r.next() * a, a];
+        }
+        (f, at, buf)
+    }
+
+    /// Runs `run` and `reference` on the same 20,000 random batches of `L` lanes (`n` from 0
+    /// to `L`): `run` must leave the bits and counts `reference` leaves.
+    #[allow(clippy::type_complexity)]
+    fn same_bits<const L: usize>(
+        table: &PreintTable,
+        (seed, npix, stride): (u64, usize, usize),
+        reference: impl Fn(&[[f32; L]; 3], &[usize; L], usize, &mut [[f32; 4]], &mut Drawn),
+        run: impl Fn(&PreintTable, &[[f32; L]; 3], &[usize; L], usize, &mut [[f32; 4]], &mut Drawn),
+    ) {
+        let mut r = Rng(seed);
+        for case in 0..20_000 {
+            let (f, at, buf) = random_batch::<L>(&mut r, table, npix, stride);
+            let n = case % (L + 1);
+            let (mut want, mut got) = (buf.clone(), buf);
+            let (mut dw, mut dg) = (Drawn::default(), Drawn::default());
+            reference(&f, &at, n, &mut want, &mut dw);
+            run(table, &f, &at, n, &mut got, &mut dg);
+            let bits = |b: &[[f32; 4]]| b.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+            assert_eq!(bits(&got), bits(&want), "case {case}: {f:?} n {n}");
+            assert_eq!((dg.frags, dg.opaque), (dw.frags, dw.opaque), "case {case}");
+        }
+    }
+
     /// Runs `run` on the same random batches as [`composite_lanes`] for `table`: every path
     /// must leave the same bits in the buffer and the same counts.
     fn same_as_lanes(
         table: &PreintTable,
         run: impl Fn(&PreintTable, &Lanes, &[usize; LANES], usize, &mut [[f32; 4]], &mut Drawn),
     ) {
-        let mut r = Rng(0x9e37_79b9_7f4a_7c15);
-        let npix = 64;
-        for case in 0..20_000 {
-            let mut f = [[0f32; LANES]; 3];
-            for (k, lanes) in f.iter_mut().enumerate() {
-                // Lengths up to three times the table's axis: long lanes take `segment`.
-                let hi = if k < 2 { 3.0 } else { 3.0 * table.lmax as f32 };
-                for v in lanes.iter_mut() {
-                    *v = value(&mut r, if k < 2 { -1.0 } else { 0.0 }, hi);
-                }
-            }
-            // Distinct pixels, some already (nearly) opaque, one now and then NaN.
-            let mut at = [0usize; LANES];
-            let start = (r.next() * npix as f32) as usize;
-            for (i, a) in at.iter_mut().enumerate() {
-                *a = (start + 7 * i) % npix;
-            }
-            let mut buf = vec![[0f32; 4]; npix];
-            for p in buf.iter_mut() {
-                let a = match (r.next() * 6.0) as usize {
-                    0 => 0.0,
-                    1 => OPAQUE,
-                    2 => 1.0,
-                    3 if r.next() < 0.05 => f32::NAN,
-                    // Just below opaque: a fragment can take it past.
-                    4 => OPAQUE - r.next() * 0.01,
-                    _ => r.next(),
-                };
-                *p = [r.next() * a, r.next() * a, r.next() * a, a];
-            }
-            let n = case % (LANES + 1);
-            let (mut want, mut got) = (buf.clone(), buf);
-            let (mut dw, mut dg) = (Drawn::default(), Drawn::default());
-            composite_lanes(table, &f, &at, n, &mut want, &mut dw);
-            run(table, &f, &at, n, &mut got, &mut dg);
-            let bits = |b: &[[f32; 4]]| b.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
-            assert_eq!(bits(&got), bits(&want), "case {case}: {f:?} n {n}");
-            assert_eq!((dg.frags, dg.opaque), (dw.frags, dw.opaque), "case {case}");
-        }
+        same_bits::<LANES>(
+            table,
+            (0x9e37_79b9_7f4a_7c15, 64, 7),
+            |f, at, n, buf, d| composite_lanes(table, f, at, n, buf, d),
+            run,
+        );
     }
 
     /// [`same_as_lanes`] for the 16-lane batches of the AVX-512 rows: `run` must leave the
@@ -927,45 +955,16 @@ pub(crate) mod tests {
         table: &PreintTable,
         run: impl Fn(&PreintTable, &WideLanes, &[usize; WIDE_LANES], usize, &mut [[f32; 4]], &mut Drawn),
     ) {
-        let mut r = Rng(0x2545_f491_4f6c_dd1d);
-        let npix = 96;
-        for case in 0..20_000 {
-            let mut f = [[0f32; WIDE_LANES]; 3];
-            for (k, lanes) in f.iter_mut().enumerate() {
-                let hi = if k < 2 { 3.0 } else { 3.0 * table.lmax as f32 };
-                for v in lanes.iter_mut() {
-                    *v = value(&mut r, if k < 2 { -1.0 } else { 0.0 }, hi);
-                }
-            }
-            let mut at = [0usize; WIDE_LANES];
-            let start = (r.next() * npix as f32) as usize;
-            for (i, a) in at.iter_mut().enumerate() {
-                *a = (start + 5 * i) % npix;
-            }
-            let mut buf = vec![[0f32; 4]; npix];
-            for p in buf.iter_mut() {
-                let a = match (r.next() * 6.0) as usize {
-                    0 => 0.0,
-                    1 => OPAQUE,
-                    2 => 1.0,
-                    3 if r.next() < 0.05 => f32::NAN,
-                    // Just below opaque: a fragment can take it past.
-                    4 => OPAQUE - r.next() * 0.01,
-                    _ => r.next(),
-                };
-                *p = [r.next() * a, r.next() * a, r.next() * a, a];
-            }
-            let n = case % (WIDE_LANES + 1);
-            let (mut want, mut got) = (buf.clone(), buf);
-            let (mut dw, mut dg) = (Drawn::default(), Drawn::default());
-            for_halves(&f, &at, n, |half, at, m| {
-                composite_lanes(table, half, at, m, &mut want, &mut dw)
-            });
-            run(table, &f, &at, n, &mut got, &mut dg);
-            let bits = |b: &[[f32; 4]]| b.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
-            assert_eq!(bits(&got), bits(&want), "case {case}: {f:?} n {n}");
-            assert_eq!((dg.frags, dg.opaque), (dw.frags, dw.opaque), "case {case}");
-        }
+        same_bits::<WIDE_LANES>(
+            table,
+            (0x2545_f491_4f6c_dd1d, 96, 5),
+            |f, at, n, buf, d| {
+                for_halves(f, at, n, |half, at, m| {
+                    composite_lanes(table, half, at, m, buf, d)
+                })
+            },
+            run,
+        );
     }
 
     #[cfg(target_arch = "x86_64")]
