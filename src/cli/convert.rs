@@ -182,12 +182,9 @@ pub fn run(args: &ConvertArgs) -> anyhow::Result<()> {
             .iter()
             .filter(|&&t| matches!(t, ct::TRIANGLE | ct::QUADRATIC_TRIANGLE))
             .count();
-        // Without `boundary_marker`, the triangles' `gmsh:physical` is written as their markers.
-        let markers = grid
-            .cell_data
-            .get("boundary_marker")
-            .map(|_| "boundary_marker")
-            .or_else(|| formats::tetgen::face_regions(&grid).map(|a| a.name.as_str()));
+        // The array the writer takes for the markers (a Gmsh mesh's `gmsh:physical` when there
+        // is no `boundary_marker`).
+        let markers = formats::tetgen::face_marker(&grid).map(|a| a.name.as_str());
         if let (true, Some("gmsh:physical")) = (faces > 0, markers) {
             eprintln!(
                 "tetkit: note: {}: the boundary triangles' gmsh:physical written as their .face markers (read back as boundary_marker)",

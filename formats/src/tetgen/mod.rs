@@ -28,7 +28,7 @@ mod records;
 mod write;
 
 pub use read::{read, read_parts};
-pub use write::{face_regions, write};
+pub use write::{face_marker, write};
 
 /// Array names the reader gives and the writer looks for.
 pub mod names {

@@ -88,13 +88,16 @@ fn is_integer(a: &DataArray) -> bool {
     a.data.scalar_type().is_some_and(|t| !t.is_float())
 }
 
-/// The cell array whose values a `.face` line's marker takes when the mesh has no
-/// `boundary_marker`: Gmsh's `gmsh:physical`, one integer per cell.
-pub fn face_regions(grid: &Grid) -> Option<&DataArray> {
-    grid.cell_data
-        .arrays
-        .iter()
-        .find(|a| a.name == crate::msh::names::PHYSICAL && a.components == 1 && is_integer(a))
+/// The cell array whose values `.face` lines carry as their markers: `boundary_marker`, else a
+/// Gmsh mesh's `gmsh:physical` (its physical surfaces), one integer per cell.
+pub fn face_marker(grid: &Grid) -> Option<&DataArray> {
+    let one_int = |name: &str| {
+        grid.cell_data
+            .arrays
+            .iter()
+            .find(|a| a.name == name && a.components == 1 && is_integer(a))
+    };
+    one_int(names::BOUNDARY_MARKER).or_else(|| one_int(crate::msh::names::PHYSICAL))
 }
 
 impl<'g> Plan<'g> {
@@ -159,20 +162,21 @@ impl<'g> Plan<'g> {
                 plan.node_attrs.push(a);
             }
         }
+        // The `.face` markers; a Gmsh mesh's `gmsh:physical` marks its triangles and stays an
+        // attribute column of its tets too, `boundary_marker` only marks.
+        plan.face_marker = face_marker(grid);
         for a in &grid.cell_data.arrays {
-            if a.name == names::BOUNDARY_MARKER && a.components == 1 && is_integer(a) {
-                plan.face_marker = Some(a);
-            } else if a.name == names::NEIGHBORS && plan.holds_neighbors(grid, a) {
+            if plan
+                .face_marker
+                .is_some_and(|m| std::ptr::eq(m, a) && a.name == names::BOUNDARY_MARKER)
+            {
+                continue;
+            }
+            if a.name == names::NEIGHBORS && plan.holds_neighbors(grid, a) {
                 plan.neighbors = Some(a);
             } else if a.data.scalar_type().is_some() {
                 plan.ele_attrs.push(a);
             }
-        }
-        if plan.face_marker.is_none() && !plan.faces.is_empty() {
-            // A Gmsh mesh's boundary triangles carry their physical surface in
-            // `gmsh:physical`: what a `.face` marker holds (the tets keep theirs as an
-            // attribute column, below).
-            plan.face_marker = face_regions(grid);
         }
         plan.ele_attrs.sort_by_key(|a| a.name != names::REGION);
         Ok(plan)
