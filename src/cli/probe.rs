@@ -52,13 +52,17 @@ fn parse_point(s: &str, place: &str) -> Result<[f64; 3]> {
     }
     let mut p = [0.0; 3];
     for (k, t) in parts.iter().enumerate() {
-        p[k] = t
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| anyhow!("{place}: '{t}' is not a finite number"))?;
+        p[k] = finite(t, place)?;
     }
     Ok(p)
+}
+
+/// `t` as a finite number, or an error naming `place`.
+fn finite(t: &str, place: &str) -> Result<f64> {
+    t.parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| anyhow!("{place}: '{t}' is not a finite number"))
 }
 
 /// Names a CSV header may give the x, y and z columns (compared without quotes or case):
@@ -117,11 +121,7 @@ fn csv_point(line: &str, cols: [usize; 3], place: &str) -> Result<[f64; 3]> {
                 c + 1
             )
         })?;
-        p[k] = t
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| anyhow!("{place}, column {}: '{t}' is not a finite number", c + 1))?;
+        p[k] = finite(t, &format!("{place}, column {}", c + 1))?;
     }
     Ok(p)
 }

@@ -630,7 +630,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 let t = Instant::now();
                 // The sort runs while the points are projected (see `pt::render_sorting`).
                 let view = View::new(&cam, w, h);
-                let (img, stats, times, _, sort_s) = pt::render_sorting(
+                let (img, stats, times, sort_s) = pt::render_sorting(
                     &view,
                     &session.mesh.points,
                     &session.mesh.tets,

@@ -153,19 +153,23 @@ pub fn render_with(
     shader: &Shader,
     schedule: Schedule,
 ) -> (Image, PtStats, PtTimes) {
-    let t0 = std::time::Instant::now();
-    let proj = project_points(view, points);
-    let stretch = stretch_map(view);
-    let project = t0.elapsed().as_secs_f64();
+    let (proj, stretch, project) = projected(view, points);
     draw_projected(
         view, tets, field, order, shader, schedule, &proj, &stretch, project,
     )
 }
 
+/// The points projected for `view`, the view's stretch map, and the seconds both took.
+fn projected(view: &View, points: &[[f64; 3]]) -> (Vec<Projected>, Vec<f32>, f64) {
+    let t0 = std::time::Instant::now();
+    let proj = project_points(view, points);
+    let stretch = stretch_map(view);
+    (proj, stretch, t0.elapsed().as_secs_f64())
+}
+
 /// [`render_with`] for an order that `sort` makes while the points are projected: a sort
 /// has stretches one core runs alone (a leaf's peel), which the projection fills. Returns
 /// what `sort` returned besides the order, too.
-#[allow(clippy::too_many_arguments)]
 pub fn render_sorting<T: Send>(
     view: &View,
     points: &[[f64; 3]],
@@ -174,17 +178,12 @@ pub fn render_sorting<T: Send>(
     shader: &Shader,
     schedule: Schedule,
     sort: impl FnOnce() -> (Vec<u32>, T) + Send,
-) -> (Image, PtStats, PtTimes, Vec<u32>, T) {
-    let ((order, extra), (proj, stretch, project)) = rayon::join(sort, || {
-        let t0 = std::time::Instant::now();
-        let proj = project_points(view, points);
-        let stretch = stretch_map(view);
-        (proj, stretch, t0.elapsed().as_secs_f64())
-    });
+) -> (Image, PtStats, PtTimes, T) {
+    let ((order, extra), (proj, stretch, project)) = rayon::join(sort, || projected(view, points));
     let (img, stats, times) = draw_projected(
         view, tets, field, &order, shader, schedule, &proj, &stretch, project,
     );
-    (img, stats, times, order, extra)
+    (img, stats, times, extra)
 }
 
 /// Draws the tets in `order` from their projected points; `project` is the seconds the
