@@ -643,8 +643,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 frame_times.push(frame_s);
                 img.write_png(&frame_path(&args.output, i, frames), look.background)?;
                 summary.push(format!(
-                    "frame {i}: {frame_s:.3} s (sort {sort_s:.3}, project {:.3}, bin {:.3}, raster {:.3}); classes 1/2/3/4/flat {:?}, clipped {}, fragments {}, hidden behind opaque blocks {}, clear (the transfer function draws nothing there) {}",
-                    times.project, times.bin, times.raster, stats.class, stats.clipped, stats.fragments, stats.hidden, stats.clear
+                    "frame {i}: {frame_s:.3} s (sort {sort_s:.3}, project {:.3}, bin {:.3}, raster {:.3}); classes 1/2/3/4/flat {:?}, clipped {}, per pixel (a face nearly edge-on on a pixel centre) {}, fragments {}, hidden behind opaque blocks {}, clear (the transfer function draws nothing there) {}",
+                    times.project, times.bin, times.raster, stats.class, stats.clipped, stats.per_pixel, stats.fragments, stats.hidden, stats.clear
                 ));
                 progress.step("frame");
             }

@@ -578,7 +578,7 @@ fn clip_split(
         for x in tile.0.max(b.0)..=tile.2.min(b.2) {
             let p = (y - ty0) as usize * tw + (x - tx0) as usize;
             let slot = &mut buf[p];
-            if slot[3] >= OPAQUE {
+            if slot[3] >= OPAQUE || !c.covers(x, y) {
                 continue;
             }
             let (ra, rb, zmin) = pt::pixel_ray(view, x, y);

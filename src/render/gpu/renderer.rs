@@ -419,6 +419,7 @@ impl GpuRenderer {
         let stats = PtStats {
             class: [c[0], c[1], c[2], c[3], c[4]].map(u64::from),
             clipped: c[5] as u64,
+            per_pixel: 0,
             fragments: 0,
             hidden: 0,
             clear: 0,

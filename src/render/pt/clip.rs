@@ -3,6 +3,7 @@
 // Negated comparisons are deliberate: they also catch NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::exact::Silhouette;
 use super::shade::Shader;
 use super::tiles::Tile;
 use super::{PixelBox, Projected, View, FACES, OPAQUE};
@@ -21,6 +22,11 @@ pub(crate) struct ClipSetup {
     g: [f64; 3],
     smin: f64,
     smax: f64,
+    /// For a tet the rasterizer could take but a face of which is seen nearly edge-on: its
+    /// exact silhouette, which decides the pixels (the planes alone would give a ray in a
+    /// face's plane to both tets that share the face), and the faces seen exactly edge-on,
+    /// which bound no chord.
+    sil: Option<(Silhouette, [bool; 4])>,
 }
 
 impl ClipSetup {
@@ -53,7 +59,26 @@ impl ClipSetup {
             g,
             smin: s.iter().copied().fold(f64::INFINITY, f64::min),
             smax: s.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            sil: None,
         })
+    }
+
+    /// The set-up of a tet whose vertices all project inside the guard band, but a face of
+    /// which is seen nearly edge-on (see `setup::snap_may_flip`): pixels decided by its exact
+    /// silhouette. `None` when it draws nothing.
+    pub(crate) fn exact(pv: [&Projected; 4], s: [f64; 4]) -> Option<ClipSetup> {
+        let sil = Silhouette::new(&pv)?;
+        Some(ClipSetup {
+            sil: Some(sil),
+            ..ClipSetup::new(pv, s)?
+        })
+    }
+
+    /// Whether pixel `(x, y)` is the tet's to draw: always for a tet with a vertex behind the
+    /// eye or beyond the guard band (its planes decide), else by its exact silhouette.
+    #[inline]
+    pub(crate) fn covers(&self, x: i64, y: i64) -> bool {
+        self.sil.as_ref().is_none_or(|(s, _)| s.covers(x, y))
     }
 
     /// The view depths `(z0, z1)` where the ray `A + z B` (z the view depth) is inside the tet,
@@ -61,7 +86,13 @@ impl ClipSetup {
     #[inline]
     pub(crate) fn span(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64)> {
         let (mut z0, mut z1) = (zmin, f64::INFINITY);
-        for (n, c) in &self.planes {
+        let edge_on = self.sil.as_ref().map_or([false; 4], |s| s.1);
+        for (n, c) in self
+            .planes
+            .iter()
+            .zip(edge_on)
+            .filter_map(|(p, e)| (!e).then_some(p))
+        {
             let na = dot3(*n, a);
             let nb = dot3(*n, b);
             // n.A + z n.B <= c.
@@ -198,7 +229,7 @@ impl ClipSetup {
         for y in part.1..=part.3 {
             for x in part.0..=part.2 {
                 let slot = &mut buf[(y - ty0) as usize * tw + (x - tx0) as usize];
-                if slot[3] >= OPAQUE {
+                if slot[3] >= OPAQUE || !self.covers(x, y) {
                     continue;
                 }
                 let (a, b, zmin) = pixel_ray(view, x, y);

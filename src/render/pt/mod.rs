@@ -18,6 +18,7 @@
 mod chunks;
 mod classify;
 mod clip;
+mod exact;
 mod raster;
 #[cfg(target_arch = "x86_64")]
 mod raster_x86;
@@ -75,6 +76,9 @@ pub struct PtStats {
     /// Tets with a vertex behind the eye (perspective) or outside the guard band, drawn by the
     /// per-pixel clipping path instead of the rasterizer.
     pub clipped: u64,
+    /// Tets the rasterizer could take but the clipping path draws, since a face seen nearly
+    /// edge-on lies on a pixel centre (see `setup::snap_may_flip`); also counted in `class`.
+    pub per_pixel: u64,
     pub fragments: u64,
     /// Tets not set up because every pixel they could cover was already opaque (the tile
     /// schedule's early termination; 0 elsewhere).
@@ -90,6 +94,7 @@ impl PtStats {
             self.class[k] += o.class[k];
         }
         self.clipped += o.clipped;
+        self.per_pixel += o.per_pixel;
         self.fragments += o.fragments;
         self.hidden += o.hidden;
         self.clear += o.clear;

@@ -90,8 +90,9 @@ pub(crate) struct TetSetup {
 
 /// Linear functions through the three screen points of each of four faces (lane `i` is face
 /// `i`, point `j` at `(x[j][i], y[j][i])` with value `v[j][i]`): value at `(ox, oy)`, slopes,
-/// twice the signed area, and whether the fit is usable (a non-degenerate, finite plane). The
-/// lanes run the same operations side by side, so they compile to vector instructions.
+/// twice the signed area, whether the fit is usable (a non-degenerate, finite plane), and
+/// whether any face's orientation [`snap_may_flip`]. The lanes run the same operations side by
+/// side, so they compile to vector instructions.
 #[inline(always)]
 #[allow(clippy::type_complexity)]
 fn plane_fits(
@@ -100,9 +101,10 @@ fn plane_fits(
     v: &[[f64; 4]; 3],
     ox: f64,
     oy: f64,
-) -> ([[f64; 4]; 3], [f64; 4], [bool; 4]) {
+) -> ([[f64; 4]; 3], [f64; 4], [bool; 4], bool) {
     let (mut c, mut ax, mut ay) = ([0f64; 4], [0f64; 4], [0f64; 4]);
     let (mut det, mut ok) = ([0f64; 4], [false; 4]);
+    let mut flips = false;
     for i in 0..4 {
         let (e1x, e1y) = (x[1][i] - x[0][i], y[1][i] - y[0][i]);
         let (e2x, e2y) = (x[2][i] - x[0][i], y[2][i] - y[0][i]);
@@ -114,8 +116,9 @@ fn plane_fits(
         det[i] = dt;
         ok[i] =
             (dt != 0.0) & dt.is_finite() & ax[i].is_finite() & ay[i].is_finite() & c[i].is_finite();
+        flips |= flip_bound(e1x.abs() + e1y.abs() + e2x.abs() + e2y.abs(), dt);
     }
-    ([c, ax, ay], det, ok)
+    ([c, ax, ay], det, ok, flips)
 }
 
 /// A tet's set-up as a frame stores it between binning and drawing: 128 bytes on two cache
@@ -249,7 +252,7 @@ pub(crate) fn setup_tet(
     s: [f64; 4],
     stats: &mut PtStats,
     out: &mut Prepared,
-) -> Option<PixelBox> {
+) -> Option<SetUp> {
     setup_tet_unless(view, pv, s, scalar_range(&s), stats, out, |_| false)
 }
 
@@ -274,13 +277,25 @@ pub(crate) fn setup_tet_unless(
     stats: &mut PtStats,
     out: &mut Prepared,
     hidden: impl Fn(PixelBox) -> bool,
-) -> Option<PixelBox> {
+) -> Option<SetUp> {
     let fp = pv.map(|p| (p.fx, p.fy));
     let d = face_areas(&fp);
     let class = classify(&d);
     stats.class[class_index(class)] += 1;
     if class == ProjClass::Flat {
-        return None;
+        // Flat on the fixed-point grid, but maybe not in truth: a tet seen nearly edge-on as a
+        // whole still has a chord along the line it projects to.
+        let (mut fx, mut fy) = ([[0f64; 4]; 3], [[0f64; 4]; 3]);
+        let mut area = [0f64; 4];
+        for (i, f) in FACES.iter().enumerate() {
+            for j in 0..3 {
+                fx[j][i] = pv[f[j]].px;
+                fy[j][i] = pv[f[j]].py;
+            }
+            area[i] = (fx[1][i] - fx[0][i]) * (fy[2][i] - fy[0][i])
+                - (fy[1][i] - fy[0][i]) * (fx[2][i] - fx[0][i]);
+        }
+        return sliver_at_a_pixel(&fx, &fy, &area, view).then_some(SetUp::PerPixel);
     }
     // The silhouette holds all four vertices, so its box is theirs: taken from the vertices,
     // which are at hand, before the silhouette is built.
@@ -358,7 +373,10 @@ pub(crate) fn setup_tet_unless(
             fw[j][i] = wv[f[j]] - w0;
         }
     }
-    let (pl, area, fit) = plane_fits(&fx, &fy, &fw, ox, oy);
+    let (pl, area, fit, flips) = plane_fits(&fx, &fy, &fw, ox, oy);
+    if flips && sliver_at_a_pixel(&fx, &fy, &area, view) {
+        return Some(SetUp::PerPixel);
+    }
     // Per face: 0 unused, 1 front, 2 back.
     let mut side = [0u8; 4];
     for i in 0..4 {
@@ -443,7 +461,133 @@ pub(crate) fn setup_tet_unless(
     out.nedges = nedges;
     out.nf = nf as u8;
     out.nb = nb as u8;
-    Some(bounds)
+    Some(SetUp::Raster(bounds))
+}
+
+/// What the set-up made of a tet that draws something.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SetUp {
+    /// A record for the rasterizer, and its pixel bounds (x0, y0, x1, y1), inclusive.
+    Raster(PixelBox),
+    /// The per-pixel clipping path must draw it: see [`snap_may_flip`].
+    PerPixel,
+}
+
+/// Whether face `i`'s projected orientation (twice its signed area `area[i]`, from the unsnapped
+/// corners `(x[j][i], y[j][i])`) could change sign, or vanish, on the fixed-point grid: each
+/// corner moves by at most half a fixed-point unit per axis there, which changes twice the area
+/// by at most the bound below. Such a face is seen nearly edge-on, so a ray close to its line
+/// runs along it for a long way, and the snapped silhouettes may hand that ray to the tet on the
+/// face's other side, whose planes give it no chord (the chord was lost: a vertex on a pixel
+/// centre with a face 0.1 degrees off edge-on, `fixtures/newuser/vertex_ray.vtu`). An area
+/// within rounding of zero (1e-10 of the squared span; an axis-aligned grid's faces seen along
+/// an axis come out so) is a face exactly edge-on: left to the fixed-point grid, whose owner
+/// rule gives a ray in its plane to one side only. The per-pixel path's chords, clipped in
+/// view coordinates, could not tell such a ray's side.
+#[inline(always)]
+fn snap_may_flip(x: &[[f64; 4]; 3], y: &[[f64; 4]; 3], area: &[f64; 4], i: usize) -> bool {
+    let span = (x[1][i] - x[0][i]).abs()
+        + (y[1][i] - y[0][i]).abs()
+        + (x[2][i] - x[0][i]).abs()
+        + (y[2][i] - y[0][i]).abs();
+    flip_bound(span, area[i])
+}
+
+/// [`snap_may_flip`] of a face whose edges from its first corner have the summed absolute
+/// components `span`, and twice its signed area `area`.
+#[inline(always)]
+fn flip_bound(span: f64, area: f64) -> bool {
+    let u = 1.0 / SUB as f64;
+    // Twice the bound, against rounding in the areas themselves.
+    let bound = 2.0 * (span * u + 2.0 * u * u);
+    (area.abs() > 1e-10 * span * span) & (area.abs() <= bound)
+}
+
+/// Whether a pixel centre of a `view` lies near a face that [`snap_may_flip`] picks: within the
+/// face's thickness plus two fixed-point units of its longest edge's line, along that edge.
+/// Elsewhere the snapped silhouettes lose at most the sliver between snapped and true edges,
+/// where the chord is small.
+fn sliver_at_a_pixel(x: &[[f64; 4]; 3], y: &[[f64; 4]; 3], area: &[f64; 4], view: &View) -> bool {
+    (0..4).any(|i| {
+        snap_may_flip(x, y, area, i)
+            && near_a_pixel_centre(
+                [0, 1, 2].map(|j| (x[j][i], y[j][i])),
+                area[i].abs(),
+                view.width as i64,
+                view.height as i64,
+            )
+    })
+}
+
+/// Whether a pixel centre `(k + 0.5, l + 0.5)` of a `w` x `h` image lies within the rectangle
+/// around triangle `p` (twice its area `area2`): along its longest edge, widened by `2 / SUB`
+/// pixels each way, and across it by the third corner's distance plus `2 / SUB`.
+fn near_a_pixel_centre(p: [(f64, f64); 3], area2: f64, w: i64, h: i64) -> bool {
+    let r = 2.0 / SUB as f64;
+    let len2 = |a: (f64, f64), b: (f64, f64)| (b.0 - a.0).powi(2) + (b.1 - a.1).powi(2);
+    let edges = [(0, 1), (1, 2), (2, 0)];
+    let (ia, ib) = edges
+        .into_iter()
+        .max_by(|e, f| len2(p[e.0], p[e.1]).total_cmp(&len2(p[f.0], p[f.1])))
+        .unwrap_or((0, 1));
+    let (a, b) = (p[ia], p[ib]);
+    let len = len2(a, b).sqrt();
+    if !(len.is_finite() && area2.is_finite()) {
+        return false;
+    }
+    if len < r {
+        // All three corners within `r` of each other: a box around them.
+        let q = |v: f64| v - 0.5;
+        let (x0, x1) = (q(a.0 - 2.0 * r).ceil(), q(a.0 + 2.0 * r).floor());
+        let (y0, y1) = (q(a.1 - 2.0 * r).ceil(), q(a.1 + 2.0 * r).floor());
+        return x0 <= x1 && y0 <= y1 && x1 >= 0.0 && y1 >= 0.0 && x0 < w as f64 && y0 < h as f64;
+    }
+    // Unit direction `u` along the edge, normal `n`; the band is |n.(c - a)| <= across and
+    // -r <= u.(c - a) <= len + r.
+    let u = ((b.0 - a.0) / len, (b.1 - a.1) / len);
+    let n = (-u.1, u.0);
+    let across = area2 / len + r;
+    // Walk the axis the edge runs along most, so each step is one pixel column (or row).
+    let (a, u, n, w, h) = if u.0.abs() >= u.1.abs() {
+        (a, u, n, w, h)
+    } else {
+        ((a.1, a.0), (u.1, u.0), (n.1, n.0), h, w)
+    };
+    let lo = (a.0 + (-r * u.0).min((len + r) * u.0) - across * n.0.abs() - 0.5)
+        .ceil()
+        .max(0.0);
+    let hi = (a.0 + (-r * u.0).max((len + r) * u.0) + across * n.0.abs() - 0.5)
+        .floor()
+        .min(w as f64 - 1.0);
+    let mut k = lo;
+    while k <= hi {
+        let cx = k + 0.5 - a.0;
+        // Each condition is `lo <= c * t + d <= hi` in the column's other coordinate `t`.
+        let mut t0 = f64::NEG_INFINITY;
+        let mut t1 = f64::INFINITY;
+        for (c, d, l, hh) in [
+            (n.1, n.0 * cx, -across, across),
+            (u.1, u.0 * cx, -r, len + r),
+        ] {
+            if c == 0.0 {
+                if d < l || d > hh {
+                    t0 = f64::INFINITY;
+                }
+            } else {
+                let (e0, e1) = ((l - d) / c, (hh - d) / c);
+                t0 = t0.max(e0.min(e1));
+                t1 = t1.min(e0.max(e1));
+            }
+        }
+        // Pixel centres t = m + 0.5 - a.1 with 0 <= m < h.
+        let m0 = (t0 + a.1 - 0.5).ceil().max(0.0);
+        let m1 = (t1 + a.1 - 0.5).floor().min(h as f64 - 1.0);
+        if m0 <= m1 {
+            return true;
+        }
+        k += 1.0;
+    }
+    false
 }
 
 /// A fragment's entry and exit depths relative to vertex 0's depth (in units of
@@ -546,7 +690,7 @@ mod tests {
             let pv = [&proj[0], &proj[1], &proj[2], &proj[3]];
             let mut st = PtStats::default();
             let mut rec = Prepared::clipped(0);
-            if let Some(b) = setup_tet(&view, &pv, s, &mut st, &mut rec) {
+            if let Some(SetUp::Raster(b)) = setup_tet(&view, &pv, s, &mut st, &mut rec) {
                 prop_assert_eq!(Some(b), vertex_box(&proj, w as i64, h as i64));
                 prop_assert_eq!(rec.clip_index(), None);
                 let su = rec.setup(w as i64, h as i64);

@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use super::clip::{clip_box, ClipSetup};
-use super::setup::{scalar_range, setup_tet, setup_tet_unless, Prepared, TetSetup};
+use super::setup::{scalar_range, setup_tet, setup_tet_unless, Prepared, SetUp, TetSetup};
 use super::shade::Shader;
 use super::{huge_pages, prefetch, PixelBox, Projected, PtStats, View, TILE};
 use crate::render::field::Field;
@@ -60,6 +60,16 @@ impl Frame<'_> {
         Some((c, b))
     }
 
+    /// The per-pixel path's set-up and pixel box of a tet a face of which is seen nearly
+    /// edge-on (`SetUp::PerPixel`): pixels decided by its exact silhouette.
+    #[inline(never)]
+    fn exact(&self, pv: [&Projected; 4], s: [f64; 4]) -> Option<(ClipSetup, PixelBox)> {
+        let (w, h) = (self.view.width as usize, self.view.height as usize);
+        let c = ClipSetup::exact(pv, s)?;
+        let b = clip_box(self.view, &pv, w, h)?;
+        Some((c, b))
+    }
+
     /// Sets up tet `t` (counting its class): what its tiles draw and its pixel box.
     #[inline(always)]
     pub(crate) fn prepare(&self, t: u32, st: &mut PtStats) -> Option<(Prep, PixelBox)> {
@@ -67,11 +77,16 @@ impl Frame<'_> {
         if pv.iter().any(|p| !p.ok) {
             st.clipped += 1;
             let (c, b) = self.clip(pv, s)?;
-            Some((Prep::Clipped(c, b), b))
-        } else {
-            let mut rec = Prepared::clipped(0);
-            let b = setup_tet(self.view, &pv, s, st, &mut rec)?;
-            Some((Prep::Tet(rec), b))
+            return Some((Prep::Clipped(c, b), b));
+        }
+        let mut rec = Prepared::clipped(0);
+        match setup_tet(self.view, &pv, s, st, &mut rec)? {
+            SetUp::Raster(b) => Some((Prep::Tet(rec), b)),
+            SetUp::PerPixel => {
+                st.per_pixel += 1;
+                let (c, b) = self.exact(pv, s)?;
+                Some((Prep::Clipped(c, b), b))
+            }
         }
     }
 
@@ -111,10 +126,21 @@ impl Frame<'_> {
             &mut run.recs[n - 1],
             |b| opaque.hides(b),
         );
-        if b.is_none() {
-            run.recs.pop();
+        match b {
+            Some(SetUp::Raster(b)) => Some(b),
+            Some(SetUp::PerPixel) => {
+                run.recs.pop();
+                run.stats.per_pixel += 1;
+                let (c, b) = self.exact(pv, s)?;
+                run.recs.push(Prepared::clipped(run.clipped.len() as u32));
+                run.clipped.push((c, b));
+                Some(b)
+            }
+            None => {
+                run.recs.pop();
+                None
+            }
         }
-        b
     }
 
     /// What record `k` of `run` is drawn from.
