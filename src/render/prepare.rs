@@ -256,10 +256,23 @@ pub fn table_plan(
 
 /// A note when the table's scalar axis (`ns` samples) is coarse for the transfer function
 /// where it is steepest: one step there adds more than two optical depths to a typical
-/// fragment of `mesh` (saying so too when the samples miss the function's nodes, which then
+/// fragment of `mesh` that is not already opaque ([`steepest_visible_depth`]) (saying so too when the samples miss the function's nodes, which then
 /// smooths the steep part across them). A gentle function needs no note on any axis.
 pub fn table_note(mesh: &TetMesh, tf: &TransferFunction, ns: usize) -> Option<String> {
     note_for(tf, edge_spread(mesh).map_or(0.0, |s| s.1), ns)
+}
+
+/// The largest change of extinction between neighbouring nodes of `tf`, as optical depth over
+/// a length `chord`, each weighted by the light a fragment that long still lets through at the
+/// interval's thinner end: where that end already makes the fragment opaque, smoothing the
+/// rest of the interval changes little that can be seen. The ramp the default opacity ends in
+/// (its last node clamped just below 1, so its extinction jumps there) made the note fire on
+/// every default render of a coarse mesh.
+fn steepest_visible_depth(tf: &TransferFunction, chord: f64) -> f64 {
+    tf.tau
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs() * chord * (-w[0].min(w[1]) * chord).exp())
+        .fold(0.0, f64::max)
 }
 
 /// [`table_note`] for a mesh whose typical chord is `chord`.
@@ -267,12 +280,12 @@ fn note_for(tf: &TransferFunction, chord: f64, ns: usize) -> Option<String> {
     let intervals = tf.tau.len().saturating_sub(1).max(1);
     let steps = ns.saturating_sub(1).max(1);
     let aligned = steps.is_multiple_of(intervals);
-    let per_step = steepest_depth(tf, chord) * intervals as f64 / steps as f64;
+    let per_step = steepest_visible_depth(tf, chord) * intervals as f64 / steps as f64;
     if !(per_step > 2.0) {
         return None;
     }
     Some(format!(
-        "the pre-integration table's scalar axis ({ns} samples{}) is coarse for this transfer function: where it is steepest one step adds about {per_step:.1} optical depths to a typical fragment, so fragments there are smoothed; --method raycast integrates it exactly, and --table with more samples (a multiple of {intervals} steps plus one meets its nodes) or a larger --unit-distance narrows the error",
+        "the pre-integration table's scalar axis ({ns} samples{}) is coarse for this transfer function: where it is steepest one step adds about {per_step:.1} optical depths to a typical fragment that is not already opaque, so fragments there are smoothed; --method raycast integrates it exactly, and --table with more samples (a multiple of {intervals} steps plus one meets its nodes) or a larger --unit-distance narrows the error",
         if aligned { "" } else { ", not on the function's nodes" }
     ))
 }
