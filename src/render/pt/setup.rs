@@ -710,6 +710,58 @@ mod tests {
         }
     }
 
+    proptest! {
+        /// The band walk finds a pixel centre exactly when one lies in the band (checked by
+        /// trying every pixel centre), for thin triangles at any slope, near and across the
+        /// image's edges; cases with a centre within 1e-9 of the band's border are skipped.
+        #[test]
+        fn the_band_walk_finds_the_pixel_centres_in_the_band(
+            a in prop::array::uniform2(-3.0f64..15.0),
+            dir in 0.0f64..std::f64::consts::TAU,
+            len in 0.0f64..9.0,
+            along in 0.0f64..1.0,
+            off in -0.05f64..0.05,
+        ) {
+            let (w, h) = (12i64, 9i64);
+            let b = (a[0] + len * dir.cos(), a[1] + len * dir.sin());
+            // The third corner beside the edge a-b, `off` pixels off its line.
+            let c = (
+                a[0] + along * (b.0 - a[0]) - off * dir.sin(),
+                a[1] + along * (b.1 - a[1]) + off * dir.cos(),
+            );
+            let p = [(a[0], a[1]), b, c];
+            let area2 = ((b.0 - a[0]) * (c.1 - a[1]) - (b.1 - a[1]) * (c.0 - a[0])).abs();
+            let got = near_a_pixel_centre(p, area2, w, h);
+            // The band as the walk defines it, tried at every pixel centre.
+            let r = 2.0 / SUB as f64;
+            let len2 = |p: (f64, f64), q: (f64, f64)| (q.0 - p.0).powi(2) + (q.1 - p.1).powi(2);
+            let (ia, ib) = [(0, 1), (1, 2), (2, 0)]
+                .into_iter()
+                .max_by(|e, f| len2(p[e.0], p[e.1]).total_cmp(&len2(p[f.0], p[f.1])))
+                .unwrap_or((0, 1));
+            let (pa, pb) = (p[ia], p[ib]);
+            let l = len2(pa, pb).sqrt();
+            let mut want = false;
+            for y in 0..h {
+                for x in 0..w {
+                    let q = (x as f64 + 0.5 - pa.0, y as f64 + 0.5 - pa.1);
+                    // Distances outside the band (negative inside), each way.
+                    let slack = if l < r {
+                        (q.0.abs() - 2.0 * r).max(q.1.abs() - 2.0 * r)
+                    } else {
+                        let u = ((pb.0 - pa.0) / l, (pb.1 - pa.1) / l);
+                        let s = q.0 * u.0 + q.1 * u.1;
+                        let t = -q.0 * u.1 + q.1 * u.0;
+                        (t.abs() - (area2 / l + r)).max(-r - s).max(s - l - r)
+                    };
+                    prop_assume!(slack.abs() > 1e-9);
+                    want |= slack < 0.0;
+                }
+            }
+            prop_assert_eq!(got, want);
+        }
+    }
+
     #[test]
     fn records_are_two_cache_lines() {
         assert_eq!(std::mem::size_of::<Prepared>(), 128);
