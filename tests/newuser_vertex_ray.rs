@@ -34,7 +34,7 @@ fn render_saying(
         "--method",
         method,
     ];
-    if !extra.iter().any(|a| *a == "--azimuth") {
+    if !extra.contains(&"--azimuth") {
         args.extend_from_slice(&["--azimuth", "30", "--elevation", "20"]);
     }
     args.extend_from_slice(extra);
