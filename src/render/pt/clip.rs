@@ -26,7 +26,12 @@ pub(crate) struct ClipSetup {
     /// exact silhouette, which decides the pixels (the planes alone would give a ray in a
     /// face's plane to both tets that share the face), and the faces seen exactly edge-on,
     /// which bound no chord.
-    sil: Option<(Silhouette, [bool; 4])>,
+    sil: Option<Box<(Silhouette, [bool; 4])>>,
+    /// Per face: the length of its normal, its first corner's distance from the view origin,
+    /// and whether a ray lying in its plane counts as inside (see [`ClipSetup::span`]).
+    norm: [f64; 4],
+    reach: [f64; 4],
+    tie: [bool; 4],
 }
 
 impl ClipSetup {
@@ -41,6 +46,7 @@ impl ClipSetup {
             return None;
         }
         let mut planes = [([0.0; 3], 0.0); 4];
+        let (mut norm, mut reach, mut tie) = ([0.0; 4], [0.0; 4], [false; 4]);
         for (f, fv) in FACES.iter().enumerate() {
             let a = v[fv[0]];
             let mut n = cr(sub(v[fv[1]], a), sub(v[fv[2]], a));
@@ -48,6 +54,15 @@ impl ClipSetup {
                 n = [-n[0], -n[1], -n[2]];
             }
             planes[f] = (n, dt(n, a));
+            norm[f] = dt(n, n).sqrt();
+            reach[f] = dt(a, a).sqrt();
+            // The first component of the outward normal that is not rounding: the two tets
+            // that share the face see it with opposite signs.
+            let lead = n
+                .into_iter()
+                .find(|x| x.abs() > 1e-9 * norm[f])
+                .unwrap_or(0.0);
+            tie[f] = lead < 0.0;
         }
         let ds = [1, 2, 3].map(|k| s[k] - s[0]);
         let (c0, c1, c2) = (cr(e[1], e[2]), cr(e[2], e[0]), cr(e[0], e[1]));
@@ -60,6 +75,9 @@ impl ClipSetup {
             smin: s.iter().copied().fold(f64::INFINITY, f64::min),
             smax: s.iter().copied().fold(f64::NEG_INFINITY, f64::max),
             sil: None,
+            norm,
+            reach,
+            tie,
         })
     }
 
@@ -69,7 +87,7 @@ impl ClipSetup {
     pub(crate) fn exact(pv: [&Projected; 4], s: [f64; 4]) -> Option<ClipSetup> {
         let sil = Silhouette::new(&pv)?;
         Some(ClipSetup {
-            sil: Some(sil),
+            sil: Some(Box::new(sil)),
             ..ClipSetup::new(pv, s)?
         })
     }
@@ -78,7 +96,7 @@ impl ClipSetup {
     /// eye or beyond the guard band (its planes decide), else by its exact silhouette.
     #[inline]
     pub(crate) fn covers(&self, x: i64, y: i64) -> bool {
-        self.sil.as_ref().is_none_or(|(s, _)| s.covers(x, y))
+        self.sil.as_ref().is_none_or(|s| s.0.covers(x, y))
     }
 
     /// The view depths `(z0, z1)` where the ray `A + z B` (z the view depth) is inside the tet,
@@ -87,14 +105,26 @@ impl ClipSetup {
     pub(crate) fn span(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64)> {
         let (mut z0, mut z1) = (zmin, f64::INFINITY);
         let edge_on = self.sil.as_ref().map_or([false; 4], |s| s.1);
-        for (n, c) in self
-            .planes
-            .iter()
-            .zip(edge_on)
-            .filter_map(|(p, e)| (!e).then_some(p))
-        {
+        let (al, bl) = (dot3(a, a).sqrt(), dot3(b, b).sqrt());
+        for (f, (n, c)) in self.planes.iter().enumerate() {
+            if edge_on[f] {
+                continue;
+            }
             let na = dot3(*n, a);
             let nb = dot3(*n, b);
+            // A ray in the face's plane, to rounding (an eye on a grid node or grid plane: the
+            // rays through the pixel centres on that plane's line). It lies on the boundary of
+            // both tets that share the face, so the clipped planes alone gave it to both (57/255
+            // too bright) or to neither; it goes to one, as if its origin moved off the plane
+            // along a fixed direction whose side the normal's leading component tells. For a
+            // tet with an exact silhouette, that silhouette has decided already.
+            let tol = 1e-12 * self.norm[f];
+            if nb.abs() <= tol * bl && (c - na).abs() <= tol * (self.reach[f] + al) {
+                if self.tie[f] || self.sil.is_some() {
+                    continue;
+                }
+                return None;
+            }
             // n.A + z n.B <= c.
             if nb > 0.0 {
                 z1 = z1.min((c - na) / nb);

@@ -91,7 +91,8 @@ pub(crate) struct TetSetup {
 /// Linear functions through the three screen points of each of four faces (lane `i` is face
 /// `i`, point `j` at `(x[j][i], y[j][i])` with value `v[j][i]`): value at `(ox, oy)`, slopes,
 /// twice the signed area, whether the fit is usable (a non-degenerate, finite plane), and
-/// whether any face's orientation [`snap_may_flip`]. The lanes run the same operations side by
+/// whether any face [`snap_may_flip`] (`d`: the faces' snapped areas), for
+/// [`sliver_at_a_pixel`] to look closer. The lanes run the same operations side by
 /// side, so they compile to vector instructions.
 #[inline(always)]
 #[allow(clippy::type_complexity)]
@@ -99,6 +100,7 @@ fn plane_fits(
     x: &[[f64; 4]; 3],
     y: &[[f64; 4]; 3],
     v: &[[f64; 4]; 3],
+    d: &[i64; 4],
     ox: f64,
     oy: f64,
 ) -> ([[f64; 4]; 3], [f64; 4], [bool; 4], bool) {
@@ -114,9 +116,15 @@ fn plane_fits(
         ay[i] = (d2 * e1x - d1 * e2x) / dt;
         c[i] = v[0][i] + ax[i] * (ox - x[0][i]) + ay[i] * (oy - y[0][i]);
         det[i] = dt;
-        ok[i] =
-            (dt != 0.0) & dt.is_finite() & ax[i].is_finite() & ay[i].is_finite() & c[i].is_finite();
-        flips |= flip_bound(e1x.abs() + e1y.abs() + e2x.abs() + e2y.abs(), dt);
+        let span = e1x.abs() + e1y.abs() + e2x.abs() + e2y.abs();
+        // An area within rounding of zero is a face seen exactly edge-on (see `flip_bound`):
+        // a plane fitted to it is rounding, as steep as it is wrong.
+        ok[i] = (dt.abs() > EDGE_ON * span * span)
+            & dt.is_finite()
+            & ax[i].is_finite()
+            & ay[i].is_finite()
+            & c[i].is_finite();
+        flips |= flip_bound(span, dt) | ((dt.abs() <= EDGE_ON * span * span) & (d[i] != 0));
     }
     ([c, ax, ay], det, ok, flips)
 }
@@ -295,7 +303,7 @@ pub(crate) fn setup_tet_unless(
             area[i] = (fx[1][i] - fx[0][i]) * (fy[2][i] - fy[0][i])
                 - (fy[1][i] - fy[0][i]) * (fx[2][i] - fx[0][i]);
         }
-        return sliver_at_a_pixel(&fx, &fy, &area, view).then_some(SetUp::PerPixel);
+        return sliver_at_a_pixel(&fx, &fy, &area, &d, view).then_some(SetUp::PerPixel);
     }
     // The silhouette holds all four vertices, so its box is theirs: taken from the vertices,
     // which are at hand, before the silhouette is built.
@@ -373,8 +381,8 @@ pub(crate) fn setup_tet_unless(
             fw[j][i] = wv[f[j]] - w0;
         }
     }
-    let (pl, area, fit, flips) = plane_fits(&fx, &fy, &fw, ox, oy);
-    if flips && sliver_at_a_pixel(&fx, &fy, &area, view) {
+    let (pl, area, fit, flips) = plane_fits(&fx, &fy, &fw, &d, ox, oy);
+    if flips && sliver_at_a_pixel(&fx, &fy, &area, &d, view) {
         return Some(SetUp::PerPixel);
     }
     // Per face: 0 unused, 1 front, 2 back.
@@ -480,17 +488,25 @@ pub(crate) enum SetUp {
 /// runs along it for a long way, and the snapped silhouettes may hand that ray to the tet on the
 /// face's other side, whose planes give it no chord (the chord was lost: a vertex on a pixel
 /// centre with a face 0.1 degrees off edge-on, `fixtures/newuser/vertex_ray.vtu`). An area
-/// within rounding of zero (1e-10 of the squared span; an axis-aligned grid's faces seen along
-/// an axis come out so) is a face exactly edge-on: left to the fixed-point grid, whose owner
-/// rule gives a ray in its plane to one side only. The per-pixel path's chords, clipped in
-/// view coordinates, could not tell such a ray's side.
+/// within rounding of zero ([`EDGE_ON`] of the squared span; an axis-aligned grid's faces seen
+/// along an axis come out so) is a face exactly edge-on: its plane bounds nothing, and it is
+/// left to the fixed-point grid, whose owner rule gives a ray in its plane to one side only,
+/// unless the grid made it a sliver (snapped area `d[i]` not zero). A pixel centre in that
+/// sliver was covered by both tets that share the face, each drawing the whole stretch along it
+/// (an eye on a grid node: 35/255 too bright).
 #[inline(always)]
-fn snap_may_flip(x: &[[f64; 4]; 3], y: &[[f64; 4]; 3], area: &[f64; 4], i: usize) -> bool {
+fn snap_may_flip(
+    x: &[[f64; 4]; 3],
+    y: &[[f64; 4]; 3],
+    area: &[f64; 4],
+    d: &[i64; 4],
+    i: usize,
+) -> bool {
     let span = (x[1][i] - x[0][i]).abs()
         + (y[1][i] - y[0][i]).abs()
         + (x[2][i] - x[0][i]).abs()
         + (y[2][i] - y[0][i]).abs();
-    flip_bound(span, area[i])
+    flip_bound(span, area[i]) || (area[i].abs() <= EDGE_ON * span * span && d[i] != 0)
 }
 
 /// [`snap_may_flip`] of a face whose edges from its first corner have the summed absolute
@@ -500,16 +516,27 @@ fn flip_bound(span: f64, area: f64) -> bool {
     let u = 1.0 / SUB as f64;
     // Twice the bound, against rounding in the areas themselves.
     let bound = 2.0 * (span * u + 2.0 * u * u);
-    (area.abs() > 1e-10 * span * span) & (area.abs() <= bound)
+    (area.abs() > EDGE_ON * span * span) & (area.abs() <= bound)
 }
+
+/// Twice a face's projected area, over its squared span (see [`snap_may_flip`]), at or below
+/// which the face is seen exactly edge-on: the area is rounding (an eye in the face's plane, or
+/// an axis-aligned grid seen along an axis, gives a few 1e-17).
+const EDGE_ON: f64 = 1e-10;
 
 /// Whether a pixel centre of a `view` lies near a face that [`snap_may_flip`] picks: within the
 /// face's thickness plus two fixed-point units of its longest edge's line, along that edge.
 /// Elsewhere the snapped silhouettes lose at most the sliver between snapped and true edges,
 /// where the chord is small.
-fn sliver_at_a_pixel(x: &[[f64; 4]; 3], y: &[[f64; 4]; 3], area: &[f64; 4], view: &View) -> bool {
+fn sliver_at_a_pixel(
+    x: &[[f64; 4]; 3],
+    y: &[[f64; 4]; 3],
+    area: &[f64; 4],
+    d: &[i64; 4],
+    view: &View,
+) -> bool {
     (0..4).any(|i| {
-        snap_may_flip(x, y, area, i)
+        snap_may_flip(x, y, area, d, i)
             && near_a_pixel_centre(
                 [0, 1, 2].map(|j| (x[j][i], y[j][i])),
                 area[i].abs(),
