@@ -137,7 +137,18 @@ impl Camera {
         let rel = sub(&self.position, &self.focal);
         let r = rotate(&rel, &axis, deg);
         self.position = [0, 1, 2].map(|k| self.focal[k] + r[k]);
-        self.orthogonalize_up();
+        // Orthogonalized against the rotated offset itself, not against focal - position: far
+        // from the origin (UTM, 1e9) the position's rounding can drop the offset's small
+        // component that keeps it off the old up (an elevation of 90 degrees leaves cos(90) =
+        // 6e-17 of it), which left a zero up where the same view at the origin was fine.
+        let d = normalize(&r.map(|x| -x));
+        let right = normalize(&cross(&d, &self.up));
+        let up = normalize(&cross(&right, &d));
+        if up.iter().all(|x| x.is_finite()) && dot(&up, &up) > 0.5 {
+            self.up = up;
+        } else {
+            self.orthogonalize_up();
+        }
     }
 
     /// Rotates `up` about the view direction.
