@@ -94,3 +94,32 @@ fn faces_exactly_edge_on_stay_with_the_owner_rule() {
         );
     }
 }
+
+/// The eye on the grid's centre node, looking along an axis (and off it) at an odd size: the
+/// rays through the centre row and column lie in grid planes through the eye, and the
+/// per-pixel path of the tets around the eye gave each such ray to both tets on a plane (401
+/// pixels up to 58/255 too bright). Such a ray now goes to one side, as if its origin moved
+/// off the plane along a fixed direction.
+#[test]
+fn an_eye_on_a_grid_node_draws_rays_in_grid_planes_once() {
+    let dir = tempdir();
+    for focal in ["1,0.5,0.5", "1,0.7,0.55", "1,0.8,0.6"] {
+        for size in ["200x200", "201x201"] {
+            let view = [
+                "--position",
+                "0.5,0.5,0.5",
+                "--focal",
+                focal,
+                "--azimuth",
+                "0",
+            ];
+            let pt = render(dir.path(), size, "pt", &view);
+            let rc = render(dir.path(), size, "raycast", &view);
+            let worst = common::max_channel_diff(&pt, &rc);
+            assert!(
+                worst <= 2,
+                "focal {focal}, {size}: PT is {worst}/255 off the ray caster"
+            );
+        }
+    }
+}

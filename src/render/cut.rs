@@ -578,11 +578,11 @@ fn clip_split(
         for x in tile.0.max(b.0)..=tile.2.min(b.2) {
             let p = (y - ty0) as usize * tw + (x - tx0) as usize;
             let slot = &mut buf[p];
-            if slot[3] >= OPAQUE || !c.covers(x, y) {
+            if slot[3] >= OPAQUE {
                 continue;
             }
             let (ra, rb, zmin) = pt::pixel_ray(view, x, y);
-            let Some((zf, zb)) = c.span(ra, rb, zmin) else {
+            let Some((zf, zb)) = c.span((x, y), ra, rb, zmin) else {
                 continue;
             };
             frags += 1;

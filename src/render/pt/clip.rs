@@ -95,15 +95,22 @@ impl ClipSetup {
     /// Whether pixel `(x, y)` is the tet's to draw: always for a tet with a vertex behind the
     /// eye or beyond the guard band (its planes decide), else by its exact silhouette.
     #[inline]
-    pub(crate) fn covers(&self, x: i64, y: i64) -> bool {
+    fn covers(&self, x: i64, y: i64) -> bool {
         self.sil.as_ref().is_none_or(|s| s.0.covers(x, y))
     }
 
-    /// The view depths `(z0, z1)` where the ray `A + z B` (z the view depth) is inside the tet,
-    /// from `zmin` on.
+    /// The view depths `(z0, z1)` where the ray `A + z B` (z the view depth) of pixel `(x, y)`
+    /// is inside the tet, from `zmin` on.
     #[inline]
-    pub(crate) fn span(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64)> {
+    pub(crate) fn span(
+        &self,
+        (x, y): (i64, i64),
+        a: [f64; 3],
+        b: [f64; 3],
+        zmin: f64,
+    ) -> Option<(f64, f64)> {
         let (mut z0, mut z1) = (zmin, f64::INFINITY);
+        let mut in_plane = false;
         let edge_on = self.sil.as_ref().map_or([false; 4], |s| s.1);
         let (al, bl) = (dot3(a, a).sqrt(), dot3(b, b).sqrt());
         for (f, (n, c)) in self.planes.iter().enumerate() {
@@ -116,11 +123,15 @@ impl ClipSetup {
             // rays through the pixel centres on that plane's line). It lies on the boundary of
             // both tets that share the face, so the clipped planes alone gave it to both (57/255
             // too bright) or to neither; it goes to one, as if its origin moved off the plane
-            // along a fixed direction whose side the normal's leading component tells. For a
-            // tet with an exact silhouette, that silhouette has decided already.
+            // along a fixed direction whose side the normal's leading component tells. That
+            // decides it for a tet with an exact silhouette too: the pixel centre lies within
+            // rounding of the face's line there, and the screen positions' rounding is not the
+            // view coordinates' (a ray down an edge seen end-on: the tets around the edge all
+            // touched it, and two took the whole edge).
             let tol = 1e-12 * self.norm[f];
             if nb.abs() <= tol * bl && (c - na).abs() <= tol * (self.reach[f] + al) {
-                if self.tie[f] || self.sil.is_some() {
+                if self.tie[f] {
+                    in_plane = true;
                     continue;
                 }
                 return None;
@@ -134,7 +145,8 @@ impl ClipSetup {
                 return None;
             }
         }
-        (z1 > z0 && z0.is_finite() && z1.is_finite()).then_some((z0, z1))
+        let inside = in_plane || self.covers(x, y);
+        (inside && z1 > z0 && z0.is_finite() && z1.is_finite()).then_some((z0, z1))
     }
 
     /// The scalar at depth `z` of the ray `A + z B`, clamped to the tet's range.
@@ -151,8 +163,14 @@ impl ClipSetup {
 
     /// (Sf, Sb, l) of the ray `A + z B` (z the view depth), from `zmin` on.
     #[inline]
-    fn segment(&self, a: [f64; 3], b: [f64; 3], zmin: f64) -> Option<(f64, f64, f64)> {
-        let (z0, z1) = self.span(a, b, zmin)?;
+    fn segment(
+        &self,
+        px: (i64, i64),
+        a: [f64; 3],
+        b: [f64; 3],
+        zmin: f64,
+    ) -> Option<(f64, f64, f64)> {
+        let (z0, z1) = self.span(px, a, b, zmin)?;
         Some((
             self.scalar(a, b, z0),
             self.scalar(a, b, z1),
@@ -259,11 +277,11 @@ impl ClipSetup {
         for y in part.1..=part.3 {
             for x in part.0..=part.2 {
                 let slot = &mut buf[(y - ty0) as usize * tw + (x - tx0) as usize];
-                if slot[3] >= OPAQUE || !self.covers(x, y) {
+                if slot[3] >= OPAQUE {
                     continue;
                 }
                 let (a, b, zmin) = pixel_ray(view, x, y);
-                let Some((sf, sb, l)) = self.segment(a, b, zmin) else {
+                let Some((sf, sb, l)) = self.segment((x, y), a, b, zmin) else {
                     continue;
                 };
                 let col = shader.shade(sf as f32, sb as f32, l as f32);
