@@ -32,6 +32,48 @@ pub fn face_areas(p: &[(i64, i64); 4]) -> [i64; 4] {
     [a(FACES[0]), a(FACES[1]), a(FACES[2]), a(FACES[3])]
 }
 
+/// The silhouette's corners (vertex indices), positively oriented, and how many there are (3 or
+/// 4; a triangle repeats its first corner), from the signs of the four faces' projected areas
+/// (`sign[i]` for face `i`: -1, 0 or 1) and `left(a, b, c)`, whether vertex `c` lies strictly
+/// left of `a -> b`. `None` for a flat projection.
+#[inline(always)]
+pub(crate) fn silhouette(
+    sign: [i8; 4],
+    left: impl Fn(usize, usize, usize) -> bool,
+) -> Option<([usize; 4], u8)> {
+    let (mut pos, mut np) = ([0usize; 4], 0);
+    let (mut neg, mut nn) = ([0usize; 4], 0);
+    for (i, &si) in sign.iter().enumerate() {
+        if si > 0 {
+            pos[np] = i;
+            np += 1;
+        } else if si < 0 {
+            neg[nn] = i;
+            nn += 1;
+        }
+    }
+    if np == 1 || nn == 1 {
+        let lone = if np == 1 { pos[0] } else { neg[0] };
+        let f = FACES[lone];
+        Some(if sign[lone] > 0 {
+            ([f[0], f[1], f[2], f[0]], 3)
+        } else {
+            ([f[0], f[2], f[1], f[0]], 3)
+        })
+    } else if np == 2 && nn == 2 {
+        // 2 + 2: the positive faces i, j share edge k-l; diagonals i-j and k-l cross.
+        let (i, j) = (pos[0], pos[1]);
+        let (k, l) = (neg[0], neg[1]);
+        Some(if left(i, k, j) {
+            ([i, k, j, l], 4)
+        } else {
+            ([i, l, j, k], 4)
+        })
+    } else {
+        None
+    }
+}
+
 pub fn classify(d: &[i64; 4]) -> ProjClass {
     let pos = d.iter().filter(|&&v| v > 0).count();
     let neg = d.iter().filter(|&&v| v < 0).count();

@@ -1,5 +1,6 @@
 //! The exact silhouette, in the true (unsnapped) screen coordinates, of a tet the per-pixel path draws because a face of it is seen nearly edge-on.
 
+use super::classify::silhouette;
 use super::{Projected, FACES};
 
 /// A projected tet's silhouette decided with exact predicates on the screen positions
@@ -27,39 +28,9 @@ impl Silhouette {
         let q = pv.map(|p| (p.px, p.py));
         let d = FACES.map(|f| orient(q[f[0]], q[f[1]], q[f[2]]));
         let flat = d.map(|x| x == 0.0);
-        let (mut pos, mut np, mut neg, mut nn) = ([0usize; 4], 0, [0usize; 4], 0);
-        for (i, &di) in d.iter().enumerate() {
-            if di > 0.0 {
-                pos[np] = i;
-                np += 1;
-            } else if di < 0.0 {
-                neg[nn] = i;
-                nn += 1;
-            }
-        }
-        let (p, n) = match (np, nn) {
-            (1, _) | (_, 1) => {
-                let lone = if np == 1 { pos[0] } else { neg[0] };
-                let f = FACES[lone];
-                let c = if d[lone] > 0.0 {
-                    [f[0], f[1], f[2], f[0]]
-                } else {
-                    [f[0], f[2], f[1], f[0]]
-                };
-                (c.map(|v| q[v]), 3)
-            }
-            (2, 2) => {
-                // The positive faces i, j share edge k-l; diagonals i-j and k-l cross.
-                let (i, j, k, l) = (pos[0], pos[1], neg[0], neg[1]);
-                let c = if orient(q[i], q[k], q[j]) > 0.0 {
-                    [i, k, j, l]
-                } else {
-                    [i, l, j, k]
-                };
-                (c.map(|v| q[v]), 4)
-            }
-            _ => return None,
-        };
+        let sign = d.map(|x| (x > 0.0) as i8 - (x < 0.0) as i8);
+        let (c, n) = silhouette(sign, |a, b, c| orient(q[a], q[b], q[c]) > 0.0)?;
+        let (p, n) = (c.map(|v| q[v]), n as usize);
         Some((Silhouette { p, n }, flat))
     }
 

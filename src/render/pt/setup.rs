@@ -3,7 +3,7 @@
 // Negated comparisons are deliberate: they also catch NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::classify::{class_index, classify, face_areas, orient2, ProjClass, FACES};
+use super::classify::{class_index, classify, face_areas, orient2, silhouette, ProjClass, FACES};
 use super::raster::RowPlanes;
 use super::tiles::Tile;
 use super::{PixelBox, Projected, PtStats, View, SUB};
@@ -313,38 +313,9 @@ pub(crate) fn setup_tet_unless(
         return None;
     }
     // Silhouette, positively oriented.
-    let (mut pos, mut np) = ([0usize; 4], 0);
-    let (mut neg, mut nn) = ([0usize; 4], 0);
-    for (i, &di) in d.iter().enumerate() {
-        if di > 0 {
-            pos[np] = i;
-            np += 1;
-        } else if di < 0 {
-            neg[nn] = i;
-            nn += 1;
-        }
-    }
-    let nedges;
-    let corners = if np == 1 || nn == 1 {
-        let lone = if np == 1 { pos[0] } else { neg[0] };
-        let f = FACES[lone];
-        nedges = 3;
-        if d[lone] > 0 {
-            [f[0], f[1], f[2], f[0]]
-        } else {
-            [f[0], f[2], f[1], f[0]]
-        }
-    } else {
-        // 2 + 2: the positive faces i, j share edge k-l; diagonals i-j and k-l cross.
-        let (i, j) = (pos[0], pos[1]);
-        let (k, l) = (neg[0], neg[1]);
-        nedges = 4;
-        if orient2(fp[i], fp[k], fp[j]) > 0 {
-            [i, k, j, l]
-        } else {
-            [i, l, j, k]
-        }
-    };
+    let (corners, nedges) = silhouette(d.map(|x| x.signum() as i8), |a, b, c| {
+        orient2(fp[a], fp[b], fp[c]) > 0
+    })?;
     // Fixed-point positions lie within the guard band (2^28), so they fit i32.
     let poly = corners.map(|v| [fp[v].0 as i32, fp[v].1 as i32]);
 

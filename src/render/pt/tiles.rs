@@ -51,21 +51,17 @@ impl Frame<'_> {
         (pv, self.field.at(t as usize, tet))
     }
 
-    /// The clipping path's set-up and pixel box of a tet the rasterizer cannot take.
-    #[inline(always)]
-    fn clip(&self, pv: [&Projected; 4], s: [f64; 4]) -> Option<(ClipSetup, PixelBox)> {
-        let (w, h) = (self.view.width as usize, self.view.height as usize);
-        let c = ClipSetup::new(pv, s)?;
-        let b = clip_box(self.view, &pv, w, h)?;
-        Some((c, b))
-    }
-
-    /// The per-pixel path's set-up and pixel box of a tet a face of which is seen nearly
-    /// edge-on (`SetUp::PerPixel`): pixels decided by its exact silhouette.
+    /// The clipping path's set-up and pixel box of a tet the rasterizer cannot take; with
+    /// `exact`, of a tet a face of which is seen nearly edge-on (`SetUp::PerPixel`), whose
+    /// pixels its exact silhouette decides. Out of line: few tets come here.
     #[inline(never)]
-    fn exact(&self, pv: [&Projected; 4], s: [f64; 4]) -> Option<(ClipSetup, PixelBox)> {
+    fn clip(&self, pv: [&Projected; 4], s: [f64; 4], exact: bool) -> Option<(ClipSetup, PixelBox)> {
         let (w, h) = (self.view.width as usize, self.view.height as usize);
-        let c = ClipSetup::exact(pv, s)?;
+        let c = if exact {
+            ClipSetup::exact(pv, s)?
+        } else {
+            ClipSetup::new(pv, s)?
+        };
         let b = clip_box(self.view, &pv, w, h)?;
         Some((c, b))
     }
@@ -76,7 +72,7 @@ impl Frame<'_> {
         let (pv, s) = self.vertices(t);
         if pv.iter().any(|p| !p.ok) {
             st.clipped += 1;
-            let (c, b) = self.clip(pv, s)?;
+            let (c, b) = self.clip(pv, s, false)?;
             return Some((Prep::Clipped(c, b), b));
         }
         let mut rec = Prepared::clipped(0);
@@ -84,7 +80,7 @@ impl Frame<'_> {
             SetUp::Raster(b) => Some((Prep::Tet(rec), b)),
             SetUp::PerPixel => {
                 st.per_pixel += 1;
-                let (c, b) = self.exact(pv, s)?;
+                let (c, b) = self.clip(pv, s, true)?;
                 Some((Prep::Clipped(c, b), b))
             }
         }
@@ -109,7 +105,7 @@ impl Frame<'_> {
         }
         if pv.iter().any(|p| !p.ok) {
             run.stats.clipped += 1;
-            let (c, b) = self.clip(pv, s)?;
+            let (c, b) = self.clip(pv, s, false)?;
             run.recs.push(Prepared::clipped(run.clipped.len() as u32));
             run.clipped.push((c, b));
             return Some(b);
@@ -131,7 +127,7 @@ impl Frame<'_> {
             Some(SetUp::PerPixel) => {
                 run.recs.pop();
                 run.stats.per_pixel += 1;
-                let (c, b) = self.exact(pv, s)?;
+                let (c, b) = self.clip(pv, s, true)?;
                 run.recs.push(Prepared::clipped(run.clipped.len() as u32));
                 run.clipped.push((c, b));
                 Some(b)
