@@ -342,7 +342,15 @@ fn active_from(a: &[(String, String)]) -> Vec<(Attribute, String)> {
 }
 
 /// Reads the XML part of a .vtu from `r` (positioned at the start of the file).
-pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
+pub(crate) fn parse<R: BufRead>(mut r: R) -> Result<Document> {
+    // A UTF-8 byte order mark is skipped here, not by quick-xml, whose positions would then not
+    // count it: every byte offset below (the appended data's start above all) is of the file.
+    let bom = match r.fill_buf() {
+        Ok(head) if head.starts_with(b"\xef\xbb\xbf") => 3,
+        _ => 0,
+    };
+    r.consume(bom);
+    let bom = bom as u64;
     let mut reader = quick_xml::Reader::from_reader(r);
     reader.config_mut().trim_text(false);
     reader.config_mut().check_end_names = true;
@@ -367,11 +375,11 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
     // The PolyData cell section last opened (its arrays attach to it).
     let mut section: Option<PolySection> = None;
     loop {
-        let pos = reader.buffer_position();
+        let pos = reader.buffer_position() + bom;
         buf.clear();
         let ev = reader
             .read_event_into(&mut buf)
-            .map_err(|e| xml_err(reader.error_position(), e))?;
+            .map_err(|e| xml_err(reader.error_position() + bom, e))?;
         let (e, empty) = match ev {
             Event::Start(e) => (e, false),
             Event::Empty(e) => (e, true),
@@ -506,7 +514,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
                 }
                 doc.appended = Some(AppendedXml {
                     raw,
-                    tag_end: reader.buffer_position(),
+                    tag_end: reader.buffer_position() + bom,
                 });
                 break;
             }
@@ -608,7 +616,7 @@ pub(crate) fn parse<R: BufRead>(r: R) -> Result<Document> {
     }
     if doc.appended.is_none() && !stack.is_empty() {
         return Err(FormatError::at_byte(
-            reader.buffer_position(),
+            reader.buffer_position() + bom,
             "the file ends before its XML is closed (truncated?)",
         ));
     }
