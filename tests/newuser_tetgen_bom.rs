@@ -49,3 +49,28 @@ fn a_vtu_with_a_byte_order_mark_keeps_its_appended_data() {
         common::vtk_check(&out, true);
     }
 }
+
+/// Gmsh files behind a byte order mark were refused ("line 1: expected $MeshFormat, found
+/// '\u{feff}$MeshFormat'"); they now read as without it, ASCII and binary, 2.2 and 4.1.
+#[test]
+fn gmsh_files_with_a_byte_order_mark_read_as_without_it() {
+    let dir = tempdir();
+    for name in [
+        "block_hole_22.msh",
+        "block_hole_41_bin.msh",
+        "block_hole_22_bin.msh",
+    ] {
+        let plain = fixture(&format!("msh/{name}"));
+        let mut bytes = b"\xef\xbb\xbf".to_vec();
+        bytes.extend(std::fs::read(&plain).unwrap());
+        let marked = dir.path().join(name);
+        std::fs::write(&marked, &bytes).unwrap();
+        let out = dir.path().join(format!("{name}.vtu"));
+        tetkit(["convert".as_ref(), marked.as_os_str(), out.as_os_str()]).assert_success();
+        let a = formats::read(&marked).unwrap();
+        let b = formats::read(&plain).unwrap();
+        assert_eq!(a.num_points(), b.num_points(), "{name}");
+        assert_eq!(a.num_cells(), b.num_cells(), "{name}");
+        assert_eq!(a.points, b.points, "{name}");
+    }
+}

@@ -23,7 +23,13 @@ impl<'a> Cursor<'a> {
     pub fn new(bytes: &'a [u8], path: Option<&'a Path>) -> Cursor<'a> {
         Cursor {
             bytes,
-            pos: 0,
+            // A UTF-8 byte order mark (a Windows editor's save) is not a token; positions stay
+            // offsets in the whole file.
+            pos: if bytes.starts_with(b"\xef\xbb\xbf") {
+                3
+            } else {
+                0
+            },
             path,
             binary: false,
             big_endian: false,
