@@ -281,6 +281,19 @@ pub(crate) fn vtkfile_type(text: &str) -> Option<&str> {
     None
 }
 
+/// The UTF-8 byte order mark Windows editors put before a text file's first byte.
+pub(crate) const BOM: &[u8] = b"\xef\xbb\xbf";
+
+/// Bytes of a leading [`BOM`] in `bytes` (3 or 0): the readers start past it, and count it in
+/// the byte offsets they report.
+pub(crate) fn bom_len(bytes: &[u8]) -> usize {
+    if bytes.starts_with(BOM) {
+        BOM.len()
+    } else {
+        0
+    }
+}
+
 /// Whether the first keyword, past `#` comment lines and whitespace, is Medit's
 /// `MeshVersionFormatted` (any case, as Medit tools accept).
 fn medit_head(text: &str) -> bool {

@@ -18,7 +18,7 @@ pub(crate) fn parse(cur: &mut Cursor<'_>) -> Result<Header, FormatError> {
         return Err(cur.err(0, "the file is empty"));
     }
     let first = cur.line().to_vec();
-    let first = first.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&first);
+    let first = &first[crate::bom_len(&first)..];
     let magic = b"# vtk DataFile Version";
     let n = first.len().min(magic.len());
     // The first line alone, and the start of the magic line or all of it: cut short.

@@ -17,11 +17,7 @@ pub(crate) struct Tokens<'a> {
 impl<'a> Tokens<'a> {
     pub fn new(bytes: &'a [u8], path: &'a Path) -> Tokens<'a> {
         // A UTF-8 byte order mark is not a token.
-        let pos = if bytes.starts_with(b"\xef\xbb\xbf") {
-            3
-        } else {
-            0
-        };
+        let pos = crate::bom_len(bytes);
         Tokens {
             bytes,
             pos,

@@ -25,11 +25,7 @@ impl<'a> Cursor<'a> {
             bytes,
             // A UTF-8 byte order mark (a Windows editor's save) is not a token; positions stay
             // offsets in the whole file.
-            pos: if bytes.starts_with(b"\xef\xbb\xbf") {
-                3
-            } else {
-                0
-            },
+            pos: crate::bom_len(bytes),
             path,
             binary: false,
             big_endian: false,

@@ -15,11 +15,7 @@ impl<'a> Records<'a> {
     pub fn new(bytes: &'a [u8], path: &'a Path) -> Records<'a> {
         // A UTF-8 byte order mark (Windows editors save one) is not part of the first record, as
         // the legacy, Medit and VTU readers skip it.
-        let pos = if bytes.starts_with(b"\xef\xbb\xbf") {
-            3
-        } else {
-            0
-        };
+        let pos = crate::bom_len(bytes);
         Records {
             bytes,
             pos,

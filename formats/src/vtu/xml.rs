@@ -345,10 +345,7 @@ fn active_from(a: &[(String, String)]) -> Vec<(Attribute, String)> {
 pub(crate) fn parse<R: BufRead>(mut r: R) -> Result<Document> {
     // A UTF-8 byte order mark is skipped here, not by quick-xml, whose positions would then not
     // count it: every byte offset below (the appended data's start above all) is of the file.
-    let bom = match r.fill_buf() {
-        Ok(head) if head.starts_with(b"\xef\xbb\xbf") => 3,
-        _ => 0,
-    };
+    let bom = r.fill_buf().map_or(0, crate::bom_len);
     r.consume(bom);
     let bom = bom as u64;
     let mut reader = quick_xml::Reader::from_reader(r);
