@@ -106,9 +106,14 @@ impl Camera {
 
     /// Makes `up` perpendicular to the view direction (vtkCamera::OrthogonalizeViewUp).
     pub fn orthogonalize_up(&mut self) {
-        let d = self.direction();
-        let right = normalize(&cross(&d, &self.up));
-        self.up = normalize(&cross(&right, &d));
+        self.up = self.up_across(&self.direction());
+    }
+
+    /// The view-up made perpendicular to the unit direction `d` (not finite when the up is
+    /// parallel to it).
+    fn up_across(&self, d: &[f64; 3]) -> [f64; 3] {
+        let right = normalize(&cross(d, &self.up));
+        normalize(&cross(&right, d))
     }
 
     /// Rotates the position about the up vector through the focal point.
@@ -141,9 +146,7 @@ impl Camera {
         // from the origin (UTM, 1e9) the position's rounding can drop the offset's small
         // component that keeps it off the old up (an elevation of 90 degrees leaves cos(90) =
         // 6e-17 of it), which left a zero up where the same view at the origin was fine.
-        let d = normalize(&r.map(|x| -x));
-        let right = normalize(&cross(&d, &self.up));
-        let up = normalize(&cross(&right, &d));
+        let up = self.up_across(&normalize(&r.map(|x| -x)));
         if up.iter().all(|x| x.is_finite()) && dot(&up, &up) > 0.5 {
             self.up = up;
         } else {

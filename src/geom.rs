@@ -58,6 +58,14 @@ impl Aabb {
     }
 }
 
+/// Exact orientation of `c` against the line `a -> b` (Shewchuk's adaptive predicate, as the
+/// `robust` crate has it): positive when `a`, `b`, `c` are counter-clockwise (`c` left of
+/// `a -> b` with y up), zero exactly when they are collinear.
+pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    let p = |v: [f64; 2]| robust::Coord { x: v[0], y: v[1] };
+    robust::orient2d(p(a), p(b), p(c))
+}
+
 /// Exact orientation of `d` against the plane through `a`, `b`, `c` (Shewchuk's adaptive
 /// predicate): positive when `d` is below the plane, i.e. `a`, `b`, `c` appear counter-clockwise
 /// seen from above, as in the `robust` crate; zero exactly when the four points are coplanar.

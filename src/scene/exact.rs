@@ -241,9 +241,7 @@ pub fn orient(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], x: &[f64; 3]) -> i32 {
 
 /// Exact sign of the 2-D cross product `(b - a) x (c - a)` of points given by two coordinates.
 pub fn orient2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i32 {
-    let p = |v: [f64; 2]| robust::Coord { x: v[0], y: v[1] };
-    let r = robust::orient2d(p(a), p(b), p(c));
-    // robust: positive when a, b, c are counter-clockwise.
+    let r = crate::geom::orient2d(a, b, c);
     if r > 0.0 {
         1
     } else if r < 0.0 {

@@ -13,11 +13,10 @@ pub(crate) struct Silhouette {
     n: usize,
 }
 
-/// `orient2d(a, b, c)`: positive when `c` lies left of `a -> b` (as in `classify::orient2`),
-/// exact.
+/// `geom::orient2d` of screen points: positive when `c` lies left of `a -> b` (as in
+/// `classify::orient2`), exact.
 fn orient(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
-    let q = |v: (f64, f64)| robust::Coord { x: v.0, y: v.1 };
-    robust::orient2d(q(a), q(b), q(c))
+    crate::geom::orient2d([a.0, a.1], [b.0, b.1], [c.0, c.1])
 }
 
 impl Silhouette {

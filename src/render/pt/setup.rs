@@ -129,6 +129,20 @@ fn plane_fits(
     ([c, ax, ay], det, ok, flips)
 }
 
+/// The true screen positions of the faces' corners, as [`plane_fits`] takes them: point `j` of
+/// face `i` at `(x[j][i], y[j][i])`.
+#[inline(always)]
+fn face_xy(pv: &[&Projected; 4]) -> ([[f64; 4]; 3], [[f64; 4]; 3]) {
+    let (mut x, mut y) = ([[0f64; 4]; 3], [[0f64; 4]; 3]);
+    for (i, f) in FACES.iter().enumerate() {
+        for j in 0..3 {
+            x[j][i] = pv[f[j]].px;
+            y[j][i] = pv[f[j]].py;
+        }
+    }
+    (x, y)
+}
+
 /// A tet's set-up as a frame stores it between binning and drawing: 128 bytes on two cache
 /// lines, since every drawn tet's record is written once and read back by each tile it touches.
 /// [`Prepared::setup`] unfolds it into the [`TetSetup`] the rasterizer reads, value for value.
@@ -293,16 +307,8 @@ pub(crate) fn setup_tet_unless(
     if class == ProjClass::Flat {
         // Flat on the fixed-point grid, but maybe not in truth: a tet seen nearly edge-on as a
         // whole still has a chord along the line it projects to.
-        let (mut fx, mut fy) = ([[0f64; 4]; 3], [[0f64; 4]; 3]);
-        let mut area = [0f64; 4];
-        for (i, f) in FACES.iter().enumerate() {
-            for j in 0..3 {
-                fx[j][i] = pv[f[j]].px;
-                fy[j][i] = pv[f[j]].py;
-            }
-            area[i] = (fx[1][i] - fx[0][i]) * (fy[2][i] - fy[0][i])
-                - (fy[1][i] - fy[0][i]) * (fx[2][i] - fx[0][i]);
-        }
+        let (fx, fy) = face_xy(pv);
+        let (_, area, _, _) = plane_fits(&fx, &fy, &[[0.0; 4]; 3], &d, 0.0, 0.0);
         return sliver_at_a_pixel(&fx, &fy, &area, &d, view).then_some(SetUp::PerPixel);
     }
     // The silhouette holds all four vertices, so its box is theirs: taken from the vertices,
@@ -344,11 +350,10 @@ pub(crate) fn setup_tet_unless(
     let big_front = (vside > 0.0) != (eside > 0.0);
     let big_pos = d[big] > 0;
     let (mut nf, mut nb) = (0, 0);
-    let (mut fx, mut fy, mut fw) = ([[0f64; 4]; 3], [[0f64; 4]; 3], [[0f64; 4]; 3]);
+    let (fx, fy) = face_xy(pv);
+    let mut fw = [[0f64; 4]; 3];
     for (i, f) in FACES.iter().enumerate() {
         for j in 0..3 {
-            fx[j][i] = pv[f[j]].px;
-            fy[j][i] = pv[f[j]].py;
             fw[j][i] = wv[f[j]] - w0;
         }
     }
