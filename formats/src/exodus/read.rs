@@ -78,6 +78,7 @@ fn read_source<S: Source>(f: &S, sel: Selector) -> Result<Grid> {
             names.join(", ")
         ));
     }
+    skipped_data(f, blocks.len());
     if steps > 0 {
         // NaN for steps without a time (no `time_whole`): the array is there exactly when the
         // file has steps, so `tetkit info` lists them without reading the file again.
@@ -99,6 +100,34 @@ fn read_source<S: Source>(f: &S, sel: Selector) -> Result<Grid> {
     g.point_data
         .insert(DataArray::new(names::NODE_ID, 1, ArrayData::Int64(map)));
     Ok(g)
+}
+
+/// Warns of the data the reader leaves out that a user would miss: element attributes
+/// (`attrib{k}`, such as sphere radii or shell thicknesses) and node set and side set variables;
+/// none of them becomes an array, and they went unmentioned.
+fn skipped_data<S: Source>(f: &S, n_blocks: usize) {
+    let attrs: Vec<String> = (1..=n_blocks)
+        .map(|k| format!("attrib{k}"))
+        .filter(|v| f.var(v).is_some())
+        .collect();
+    if !attrs.is_empty() {
+        warn(&format!(
+            "{}: element attributes skipped: {}",
+            f.path().display(),
+            attrs.join(", ")
+        ));
+    }
+    for (count, what) in [
+        ("num_nset_var", "node set variables"),
+        ("num_sset_var", "side set variables"),
+    ] {
+        if let Some(n) = f.dim(count).filter(|&n| n > 0) {
+            warn(&format!(
+                "{}: {n} {what} skipped ({count})",
+                f.path().display()
+            ));
+        }
+    }
 }
 
 /// A NetCDF file that is not Exodus II (no `num_dim`, say: any NetCDF-4 file is HDF5, and
@@ -245,10 +274,19 @@ fn blocks<S: Source>(f: &S, n_points: usize, cells: &mut Cells) -> Result<Vec<Bl
         let k = b + 1;
         let n_el = dim(f, &format!("num_el_in_blk{k}"));
         let conn = f.var(&format!("connect{k}"));
-        let Some(v) = conn.filter(|_| n_el > 0) else {
+        if n_el == 0 {
             // An empty (null) block gives no cells but keeps its place for element variables.
             out.push(Block { id, cells: 0 });
             continue;
+        }
+        // Elements without connectivity cannot be read; dropping them would lose the block (VTK
+        // refuses the file too: "Could not read block params").
+        let Some(v) = conn else {
+            return Err(FormatError::whole(format!(
+                "element block {k} (id {id}) has {n_el} elements (num_el_in_blk{k}) but no \
+                 connectivity variable connect{k}"
+            ))
+            .with_file(f.path()));
         };
         if f.is_record(v) {
             return Err(f.err_var(v, "is a record variable; connectivity is fixed"));

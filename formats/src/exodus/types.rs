@@ -23,22 +23,29 @@ const HEX27: [usize; 27] = [
 /// WEDGE15: Exodus puts the vertical edges (9-11) before the top triangle's edges (12-14).
 const WEDGE15: [usize; 15] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14, 9, 10, 11];
 
-/// The family of an `elem_type`, case-insensitive, with the aliases Exodus writers use; any
-/// trailing node count is split off.
-fn family(elem_type: &str) -> Option<(&'static str, Option<usize>)> {
+/// The family of an `elem_type`, case-insensitive, by its first three letters as VTK's
+/// vtkExodusIIReader matches them (so `TETRAHEDRON`, `QUADRILATERAL`, `EDGE2` and `TRISHELL3`
+/// read as VTK reads them); any trailing node count is split off. `SHELL` is a quadrilateral,
+/// or a triangle with 3 nodes per element (as VTK reads `SHELL3`); `STRAIGHT` (2 nodes) a bar.
+fn family(elem_type: &str, nodes: usize) -> Option<(&'static str, Option<usize>)> {
     let t = elem_type.trim().to_ascii_uppercase();
     let digits = t.len() - t.trim_end_matches(|c: char| c.is_ascii_digit()).len();
     let (name, count) = t.split_at(t.len() - digits);
     let count = count.parse::<usize>().ok();
-    let fam = match name {
-        "TETRA" | "TET" => "tetra",
-        "HEX" | "HEXAHEDRON" => "hex",
-        "WEDGE" => "wedge",
-        "PYRAMID" => "pyramid",
-        "TRI" | "TRIANGLE" | "TRISHELL" => "tri",
-        "QUAD" | "SHELL" => "quad",
-        "BAR" | "BEAM" | "TRUSS" => "bar",
-        "SPHERE" | "CIRCLE" => "sphere",
+    if name.starts_with("STRAIGHT") {
+        return Some(("bar", count));
+    }
+    let fam = match name.get(..3)? {
+        "TET" => "tetra",
+        "HEX" => "hex",
+        "WED" => "wedge",
+        "PYR" => "pyramid",
+        "TRI" => "tri",
+        "QUA" => "quad",
+        "SHE" if nodes == 3 => "tri",
+        "SHE" => "quad",
+        "BAR" | "BEA" | "TRU" | "EDG" => "bar",
+        "SPH" | "CIR" => "sphere",
         _ => return None,
     };
     Some((fam, count))
@@ -52,7 +59,7 @@ pub(crate) fn cell_kind(elem_type: &str, nodes: usize) -> Result<CellKind, Strin
             "element type '{elem_type}' (arbitrary polygons and polyhedra) is not supported"
         ));
     }
-    let Some((fam, named)) = family(elem_type) else {
+    let Some((fam, named)) = family(elem_type, nodes) else {
         return Err(format!("unknown element type '{elem_type}'"));
     };
     // A count in the name must agree with the block's nodes per element; without one the count
@@ -117,12 +124,25 @@ mod tests {
             ("truss", 2, ct::LINE),
             ("BEAM3", 3, ct::QUADRATIC_EDGE),
             ("circle", 1, ct::VERTEX),
+            // Named as VTK's reader matches them: by the first three letters.
+            ("TETRAHEDRON", 4, ct::TETRA),
+            ("hexahedron", 8, ct::HEXAHEDRON),
+            ("QUADRILATERAL", 4, ct::QUAD),
+            ("Quadrilateral8", 8, ct::QUADRATIC_QUAD),
+            ("SHELL3", 3, ct::TRIANGLE),
+            ("EDGE2", 2, ct::LINE),
+            ("edge3", 3, ct::QUADRATIC_EDGE),
+            ("STRAIGHT2", 2, ct::LINE),
+            ("WEDGE6", 6, ct::WEDGE),
+            ("PYRAMID5", 5, ct::PYRAMID),
         ] {
             assert_eq!(cell_kind(t, n).unwrap().vtk, vtk, "{t}");
         }
         assert!(cell_kind("NSIDED", 0).unwrap_err().contains("polygons"));
         assert!(cell_kind("HEX8", 20).unwrap_err().contains("names 8 nodes"));
         assert!(cell_kind("blob", 3).unwrap_err().contains("unknown"));
+        assert!(cell_kind("TE", 4).unwrap_err().contains("unknown"));
+        assert!(cell_kind("", 4).unwrap_err().contains("unknown"));
         assert!(cell_kind("TETRA", 8).unwrap_err().contains("8 nodes"));
     }
 
