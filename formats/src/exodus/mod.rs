@@ -65,8 +65,8 @@ pub fn times(path: &Path) -> Result<Vec<f64>> {
 /// `elem_num_map`, or 1, 2, ... as Exodus numbers elements without one) and the element variables of step `sel` (NaN in blocks the truth table leaves
 /// out); point arrays: `GlobalNodeId` (Int64, from `node_num_map` or 1, 2, ...), the nodal variables of the
 /// step and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times, NaN where a step has none; only in a file with steps),
-/// `exodus:block_names`, and each global variable over all steps. Side sets are skipped with a
-/// warning; QA and info records are skipped. NetCDF-4 (HDF5) files, also behind a user block of
+/// `exodus:block_names`, and each global variable over all steps. Side sets, element attributes
+/// (`attrib{k}`) and node and side set variables are skipped with a warning; QA and info records are skipped. NetCDF-4 (HDF5) files, also behind a user block of
 /// 512, 1024, ... bytes, read exactly as their classic copies do: chunked, compressed (deflate,
 /// shuffle), NC_STRING names and 64-bit integers alike; an HDF5 file that is not Exodus II is
 /// refused naming what it lacks.
