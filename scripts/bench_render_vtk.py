@@ -21,6 +21,11 @@ pixels) of each VTK image and of tetkit's last frame is printed, so a renderer t
 the volume would show. The machine may be shared: every measurement is repeated --rounds times,
 VTK and tetkit interleaved, and the fastest round's median is kept (contention only adds time).
 
+With --torus MAXVOL it also times a TetGen mesh of the torus of scripts/tetgen_surfaces.py
+(`tetgen -pq1.2aMAXVOL`; 0.00006 gives about 200k tets, near the issue's 211k-tet torus),
+converted with tetkit, with the same scalar (x + 2y + 3z over its bounds, scaled to [0, 1]) and a
+fifth of its diagonal as unit distance: a non-convex mesh from a real mesher, not a grid.
+
 VTK needs an X server here:  xvfb-run -a scripts/bench_render_vtk.py --tets 200000 1000000
 """
 import argparse
@@ -34,7 +39,7 @@ import tempfile
 import time
 
 import vtk
-from vtk.util.numpy_support import vtk_to_numpy
+from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 COOL_TO_WARM = [
     [0.230, 0.299, 0.754], [0.375, 0.486, 0.904], [0.552, 0.690, 0.996],
@@ -69,6 +74,42 @@ def make_mesh(target_tets, path):
     w.SetInputData(ug)
     w.Write()
     return ug
+
+
+def make_torus(max_volume, tmp, exe, path):
+    """A TetGen torus (see the module doc), written as legacy binary VTK with a point scalar."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    subprocess.run([sys.executable, os.path.join(here, "tetgen_surfaces.py"), tmp], check=True,
+                   capture_output=True)
+    subprocess.run(["tetgen", f"-pq1.2a{max_volume}zQ", "torus.poly"], cwd=tmp, check=True,
+                   capture_output=True)
+    # Only the tets: tetkit's convert also reads the boundary triangles of torus.1.face, which
+    # VTK's PT mapper refuses (it draws nothing for a mesh that is not all tetrahedra).
+    for ext in ("face", "edge"):
+        if os.path.exists(os.path.join(tmp, f"torus.1.{ext}")):
+            os.remove(os.path.join(tmp, f"torus.1.{ext}"))
+    vtu = os.path.join(tmp, "torus.vtu")
+    subprocess.run([exe, "convert", os.path.join(tmp, "torus.1.ele"), vtu], check=True,
+                   capture_output=True)
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(vtu)
+    r.Update()
+    ug = r.GetOutput()
+    pts = vtk_to_numpy(ug.GetPoints().GetData())
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    v = (pts - lo) / (hi - lo)
+    s = (v[:, 0] + 2 * v[:, 1] + 3 * v[:, 2]) / 6.0
+    arr = numpy_to_vtk(s.astype("float64"), deep=1)
+    arr.SetName("scalar")
+    ug.GetPointData().AddArray(arr)
+    ug.GetPointData().SetActiveScalars("scalar")
+    w = vtk.vtkUnstructuredGridWriter()
+    w.SetFileTypeToBinary()
+    w.SetFileName(path)
+    w.SetInputData(ug)
+    w.Write()
+    diag = float(((hi - lo) ** 2).sum() ** 0.5)
+    return ug, diag
 
 
 def coverage(img):
@@ -170,23 +211,30 @@ def tetkit_time(exe, mesh, out_png, frames, size, unit_distance, extra):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--tets", type=int, nargs="+", default=[200000, 1000000])
+    ap.add_argument("--tets", type=int, nargs="*", default=[200000, 1000000], help="grid sizes (none: only --torus)")
     ap.add_argument("--frames", type=int, default=3)
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--tetkit", default=os.path.join(os.path.dirname(__file__), "..", "target", "release", "tetkit"))
     ap.add_argument("--no-vtk-raycast", action="store_true", help="skip VTK's (slow) ray caster")
     ap.add_argument("--rounds", type=int, default=2, help="repeat each measurement, keep the fastest")
     ap.add_argument("--json", help="also write the results here")
+    ap.add_argument("--torus", type=float, metavar="MAXVOL",
+                    help="also time a TetGen torus meshed with this maximum tet volume (0.00006: ~200k tets)")
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory(prefix="tetkit-bench-") as tmp:
-        for target in args.tets:
-            path = os.path.join(tmp, f"grid_{target}.vtk")
-            ug = make_mesh(target, path)
+        meshes = [("grid", t) for t in args.tets] + ([("torus", args.torus)] if args.torus else [])
+        for kind, target in meshes:
+            path = os.path.join(tmp, f"{kind}_{target}.vtk")
+            if kind == "grid":
+                ug = make_mesh(target, path)
+                diag = 3 ** 0.5
+            else:
+                ug, diag = make_torus(target, tmp, args.tetkit, path)
             ntets = ug.GetNumberOfCells()
             # A fifth of the bounding-box diagonal, tetkit's default.
-            ud = (3 ** 0.5) / 5.0
-            row = {"tets": ntets, "vtk_version": vtk.vtkVersion.GetVTKVersion(), "load_before": os.getloadavg()[0]}
+            ud = diag / 5.0
+            row = {"mesh": kind, "tets": ntets, "vtk_version": vtk.vtkVersion.GetVTKVersion(), "load_before": os.getloadavg()[0]}
             png = os.path.join(tmp, "out.png")
             runs = {
                 "vtk_pt": lambda: vtk_time(ug, "pt", args.frames, args.size, ud),
@@ -214,13 +262,13 @@ def main():
     print()
     print(f"load average (1 min) before/after each size: {[(r['load_before'], r['load_after']) for r in rows]}")
     print(f"coverage (share of non-black pixels), VTK PT / tetkit kd+pre: {[(round(r['vtk_pt_coverage'], 3), round(r['tetkit_kd_pre_coverage'], 3)) for r in rows]}")
-    print(f"| tets | VTK PT | VTK ray cast | tetkit kd+preintegrated | tetkit centroid+average | tetkit ray cast (exact) | tetkit ray cast (table) | exact PT speed-up vs VTK PT | ray cast speed-up vs VTK (exact, table) |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print(f"| mesh | tets | VTK PT | VTK ray cast | tetkit kd+preintegrated | tetkit centroid+average | tetkit ray cast (exact) | tetkit ray cast (table) | exact PT speed-up vs VTK PT | ray cast speed-up vs VTK (exact, table) |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for r in rows:
         vr = f"{r['vtk_raycast']:.3f} s" if "vtk_raycast" in r else "-"
         rr = (f"{r['vtk_raycast'] / r['tetkit_raycast']:.1f}x, {r['vtk_raycast'] / r['tetkit_raycast_table']:.1f}x"
               if "vtk_raycast" in r else "-")
-        print(f"| {r['tets']} | {r['vtk_pt']:.3f} s | {vr} | {r['tetkit_kd_pre']:.3f} s (setup {r['tetkit_kd_pre_setup']:.2f} s) | "
+        print(f"| {r['mesh']} | {r['tets']} | {r['vtk_pt']:.3f} s | {vr} | {r['tetkit_kd_pre']:.3f} s (setup {r['tetkit_kd_pre_setup']:.2f} s) | "
               f"{r['tetkit_centroid_avg']:.3f} s | {r['tetkit_raycast']:.3f} s (setup {r['tetkit_raycast_setup']:.2f} s) | "
               f"{r['tetkit_raycast_table']:.3f} s | "
               f"{r['vtk_pt'] / r['tetkit_kd_pre']:.1f}x | {rr} |")

@@ -74,7 +74,26 @@ impl LeafBoundary {
                 (c[0] == c[1] && c[1] == c[2]) && (c[0] == bounds.min[k] || c[0] == bounds.max[k])
             })
         };
-        let keep: Vec<usize> = (0..tri.len()).filter(|&k| !on_box(&tri[k])).collect();
+        let mut keep: Vec<usize> = (0..tri.len()).filter(|&k| !on_box(&tri[k])).collect();
+        // Faces near each other in space near each other in memory: every view tests each face
+        // against the faces overlapping it on screen, and those reads then hit the cache. (The
+        // constraints are a sorted set, so the order changes no answer.)
+        let code = |f: &[u32; 3]| {
+            let c = (0..3).map(|k| {
+                let x = f.iter().map(|&v| pts[v as usize][k]).sum::<f64>() / 3.0;
+                let span = bounds.max[k] - bounds.min[k];
+                let u = if span > 0.0 {
+                    (x - bounds.min[k]) / span
+                } else {
+                    0.0
+                };
+                // In [0, 1023]; NaN becomes 0.
+                (u.clamp(0.0, 1.0) * 1023.0) as u32
+            });
+            c.enumerate()
+                .fold(0u32, |acc, (k, q)| acc | spread_bits(q) << k)
+        };
+        keep.sort_by_cached_key(|&k| (code(&tri[k]), k));
         Some(LeafBoundary {
             tet: keep.iter().map(|&k| tet[k]).collect(),
             tri: keep.iter().map(|&k| tri[k]).collect(),
@@ -166,19 +185,19 @@ impl LeafBoundary {
         let range = |b: &[f64; 4]| (cell(b[0], 0), cell(b[2], 0), cell(b[1], 1), cell(b[3], 1));
         // Boxes covering many cells (faces reaching behind the eye, or huge on screen) are kept
         // out of the grid and tried against every face of the other kind instead.
-        let wide = |b: &[f64; 4]| {
-            let (x0, x1, y0, y1) = range(b);
-            (x1 - x0 + 1) * (y1 - y0 + 1) > 4 * g
-        };
+        let wide =
+            |(x0, x1, y0, y1): (usize, usize, usize, usize)| (x1 - x0 + 1) * (y1 - y0 + 1) > 4 * g;
         let mut count = vec![0u32; g * g + 1];
         let mut wide_exits = Vec::new();
-        for &k in &exits {
-            let b = bx(k);
-            if wide(b) {
+        // Each exit's cell range, found once: the scan below compares cells as integers.
+        let exit_range: Vec<(usize, usize, usize, usize)> =
+            exits.iter().map(|&k| range(bx(k))).collect();
+        for (&k, &r) in exits.iter().zip(&exit_range) {
+            if wide(r) {
                 wide_exits.push(k);
                 continue;
             }
-            let (x0, x1, y0, y1) = range(b);
+            let (x0, x1, y0, y1) = r;
             for y in y0..=y1 {
                 for x in x0..=x1 {
                     count[y * g + x + 1] += 1;
@@ -189,17 +208,24 @@ impl LeafBoundary {
             count[i + 1] += count[i];
         }
         let mut fill = count.clone();
-        let mut bins = vec![0u32; count[g * g] as usize];
-        for &k in &exits {
-            let b = bx(k);
-            if wide(b) {
+        // The bins hold what the scan tests (the box and its low cell) next to the face, so a
+        // candidate costs no look-up in `proj` and no division: one entry face meets dozens of
+        // exits that the tests below reject.
+        let mut bins = vec![Binned::default(); count[g * g] as usize];
+        for (&k, &r) in exits.iter().zip(&exit_range) {
+            if wide(r) {
                 continue;
             }
-            let (x0, x1, y0, y1) = range(b);
+            let (x0, x1, y0, y1) = r;
+            let e = Binned {
+                k,
+                lo: [x0 as u32, y0 as u32],
+                bbox: *bx(k),
+            };
             for y in y0..=y1 {
                 for x in x0..=x1 {
                     let s = &mut fill[y * g + x];
-                    bins[*s as usize] = k;
+                    bins[*s as usize] = e;
                     *s += 1;
                 }
             }
@@ -220,38 +246,36 @@ impl LeafBoundary {
                 let mut found = Vec::new();
                 let gb = self.tet[gk as usize];
                 let b = bx(gk);
-                let mut consider = |fk: u32| {
+                let mut consider = |fk: u32, fb: &[f64; 4]| {
                     let fa = self.tet[fk as usize];
-                    if fa != gb
-                        && !disjoint(bx(fk), b)
-                        && ctx.exit_in_front(fk as usize, gk as usize)
-                    {
+                    if fa != gb && !disjoint(fb, b) && ctx.exit_in_front(fk as usize, gk as usize) {
                         found.push(if ftb { (fa, gb) } else { (gb, fa) });
                     }
                 };
-                if wide(b) {
+                let r = range(b);
+                if wide(r) {
                     for &fk in &exits {
-                        consider(fk);
+                        consider(fk, bx(fk));
                     }
                     return found;
                 }
-                let (x0, x1, y0, y1) = range(b);
+                let (x0, x1, y0, y1) = r;
                 for y in y0..=y1 {
                     for x in x0..=x1 {
                         let bin = y * g + x;
-                        for &fk in &bins[count[bin] as usize..count[bin + 1] as usize] {
+                        for e in &bins[count[bin] as usize..count[bin + 1] as usize] {
                             // Test each pair once: in the cell holding the low corner of the
-                            // boxes' overlap.
-                            let fb = bx(fk);
-                            if (cell(fb[0].max(b[0]), 0), cell(fb[1].max(b[1]), 1)) != (x, y) {
+                            // boxes' overlap. `cell` does not decrease, so the cell of the
+                            // larger coordinate is the larger of the two cells.
+                            if (e.lo[0] as usize).max(x0) != x || (e.lo[1] as usize).max(y0) != y {
                                 continue;
                             }
-                            consider(fk);
+                            consider(e.k, &e.bbox);
                         }
                     }
                 }
                 for &fk in &wide_exits {
-                    consider(fk);
+                    consider(fk, bx(fk));
                 }
                 found
             })
@@ -260,6 +284,24 @@ impl LeafBoundary {
         out.dedup();
         (out, ctx.exact_calls.into_inner())
     }
+}
+
+/// The low 10 bits of `x` spread to every third bit (a Morton code's one axis).
+fn spread_bits(x: u32) -> u32 {
+    let mut x = x & 0x3ff;
+    x = (x | x << 16) & 0x030000ff;
+    x = (x | x << 8) & 0x0300f00f;
+    x = (x | x << 4) & 0x030c30c3;
+    (x | x << 2) & 0x09249249
+}
+
+/// An exit face in a grid cell, with what the scan tests before looking further.
+#[derive(Clone, Copy, Default)]
+struct Binned {
+    k: u32,
+    /// The cell of the box's low corner.
+    lo: [u32; 2],
+    bbox: [f64; 4],
 }
 
 const EMPTY_BOX: [f64; 4] = [
@@ -400,17 +442,20 @@ impl PairCtx<'_> {
             (Some(a), Some(b)) => (&a.tri, &b.tri),
             _ => return false,
         };
+        // Depth first (three orient3d each): a face wholly on the eye's side of the other's
+        // plane comes first on every ray through both, so nothing else needs deciding.
+        // g against f's plane: for an exit face the eye is on the inner (positive) side. Most
+        // pairs whose boxes overlap are the two sides of one solid part, the entry face in
+        // front: this test, before the 2-D one, settles them (both are exact filters, so
+        // their order changes no answer).
+        let side_f = ft_side(self.pts, &ft, &gt);
+        if side_f == Side::Inner {
+            return false;
+        }
         if let (Some(a), Some(b)) = (ta, tb) {
             if float_separated(a, b) {
                 return false;
             }
-        }
-        // Depth first (three orient3d each): a face wholly on the eye's side of the other's
-        // plane comes first on every ray through both, so nothing else needs deciding.
-        // g against f's plane: for an exit face the eye is on the inner (positive) side.
-        let side_f = ft_side(self.pts, &ft, &gt);
-        if side_f == Side::Inner {
-            return false;
         }
         // f against g's plane: for an entry face the eye is on the outer (negative) side.
         let side_g = if side_f == Side::Mixed {
@@ -560,6 +605,11 @@ fn ft_side(pts: &[[f64; 3]], t: &[u32; 3], other: &[u32; 3]) -> Side {
     );
     let (mut pos, mut neg) = (false, false);
     for &v in other {
+        // A shared corner lies on the plane: exactly 0, without the exact arithmetic orient3d
+        // falls back to for a zero (adjacent faces share one or two).
+        if t.contains(&v) {
+            continue;
+        }
         // orient3d > 0: below the normal, i.e. on the inner side.
         let s = orient3d(a, b, c, &pts[v as usize]);
         pos |= s > 0.0;
@@ -697,6 +747,20 @@ mod tests {
             .collect();
         let tets: Vec<u32> = (0..mesh.tets.len() as u32).collect();
         LeafBoundary::build(mesh, &adj, &same, &tets)
+    }
+
+    #[test]
+    fn spread_bits_interleaves_three_axes() {
+        assert_eq!(spread_bits(0), 0);
+        assert_eq!(spread_bits(0b1), 0b1);
+        assert_eq!(spread_bits(0b11), 0b1001);
+        assert_eq!(spread_bits(0b1010), 0b10_0000_1000);
+        assert_eq!(spread_bits(0x3ff), 0x0924_9249);
+        // Only the low 10 bits count, and the three axes never share a bit.
+        assert_eq!(spread_bits(0x7ff), spread_bits(0x3ff));
+        let all = spread_bits(0x3ff) | spread_bits(0x3ff) << 1 | spread_bits(0x3ff) << 2;
+        assert_eq!(all, (1 << 30) - 1);
+        assert_eq!(spread_bits(0x3ff) & (spread_bits(0x3ff) << 1), 0);
     }
 
     #[test]
