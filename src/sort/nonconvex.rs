@@ -304,6 +304,8 @@ struct Binned {
     bbox: [f64; 4],
 }
 
+const UNKNOWN_DEPTH: [f64; 2] = [f64::NEG_INFINITY, f64::INFINITY];
+
 const EMPTY_BOX: [f64; 4] = [
     f64::INFINITY,
     f64::INFINITY,
@@ -321,6 +323,21 @@ struct Proj {
     /// The corners' images and a bound on their absolute error, when every corner is surely in
     /// front of the eye (always, for orthographic views): then the image is this triangle.
     tri: Option<([[f64; 2]; 3], f64)>,
+    /// Bounds on the depth along the view direction of every point of the face, where `tri` is
+    /// known (else infinite). On one ray from the eye (or along the view direction) depth grows
+    /// with the distance travelled, so a face wholly shallower than another is met first on
+    /// every ray through both.
+    depth: [f64; 2],
+}
+
+/// Depth bounds of corners at depths `z` with absolute error at most `err` each.
+fn depth_range(z: [f64; 3], err: [f64; 3]) -> [f64; 2] {
+    let lo = (0..3).map(|i| z[i] - err[i]).fold(f64::INFINITY, f64::min);
+    let hi = (0..3)
+        .map(|i| z[i] + err[i])
+        .fold(f64::NEG_INFINITY, f64::max);
+    // Computing the bounds rounds too: widen by one unit of it each way.
+    [lo - EPS * lo.abs(), hi + EPS * hi.abs()]
 }
 
 /// The screen image of one face, or `None` when it is surely behind the eye.
@@ -343,16 +360,16 @@ fn project(
         Viewpoint::Direction(_) => {
             let c = q.map(|x| [dot(x, r), dot(x, u)]);
             // Each dot product: a few roundings of terms no larger than |x|_1 (|r|, |u| ~ 1).
-            let d = q
-                .iter()
-                .map(|x| 8.0 * EPS * (x[0].abs() + x[1].abs() + x[2].abs()))
-                .fold(0.0, f64::max);
+            let errs = q.map(|x| 8.0 * EPS * (x[0].abs() + x[1].abs() + x[2].abs()));
+            let d = errs.iter().copied().fold(0.0, f64::max);
             for s in &c {
                 grow(s[0], s[1], d);
             }
             Some(Proj {
                 bbox,
                 tri: Some((c, d)),
+                // `fw` is the view direction normalized, so depth grows along every ray.
+                depth: depth_range(q.map(|x| dot(x, fw)), errs),
             })
         }
         Viewpoint::Eye(e) => {
@@ -385,6 +402,8 @@ fn project(
                 return Some(Proj {
                     bbox,
                     tri: Some((img, dmax)),
+                    // Every corner surely in front: depth grows along each ray through the face.
+                    depth: depth_range(lat.map(|x| x[2]), err),
                 });
             }
             if !front.iter().any(|&f| f) {
@@ -397,6 +416,7 @@ fn project(
                         f64::INFINITY,
                     ],
                     tri: None,
+                    depth: UNKNOWN_DEPTH,
                 });
             }
             // Along an edge that reaches the eye's plane the image runs off to infinity on the
@@ -417,7 +437,11 @@ fn project(
                     }
                 }
             }
-            Some(Proj { bbox, tri: None })
+            Some(Proj {
+                bbox,
+                tri: None,
+                depth: UNKNOWN_DEPTH,
+            })
         }
     }
 }
@@ -439,6 +463,8 @@ impl PairCtx<'_> {
     fn exit_in_front(&self, f: usize, g: usize) -> bool {
         let (ft, gt) = (self.tri[f], self.tri[g]);
         let (ta, tb) = match (&self.proj[f], &self.proj[g]) {
+            // The entry face wholly shallower: every ray meets it first.
+            (Some(a), Some(b)) if b.depth[1] < a.depth[0] => return false,
             (Some(a), Some(b)) => (&a.tri, &b.tri),
             _ => return false,
         };
@@ -977,6 +1003,23 @@ mod tests {
             if r.overlap {
                 let (x, y) = (pa.bbox, pb.bbox);
                 prop_assert!(!(x[0] > y[2] || y[0] > x[2] || x[1] > y[3] || y[1] > x[3]));
+            }
+            // A face wholly shallower is crossed first on every ray through both.
+            if pb.depth[1] < pa.depth[0] {
+                prop_assert!(!r.f_first);
+            }
+            if pa.depth[1] < pb.depth[0] {
+                prop_assert!(!exact::relation(&view, &b, &a).f_first);
+            }
+            // The bounds hold the corners' depths (so every point's).
+            for (p, t) in [(&pa, &a), (&pb, &b)] {
+                for x in t.iter() {
+                    let z = match view {
+                        Viewpoint::Eye(e) => dot(&sub(x, &e), &frame.2),
+                        Viewpoint::Direction(_) => dot(x, &frame.2),
+                    };
+                    prop_assert!(p.depth[0] <= z && z <= p.depth[1]);
+                }
             }
         }
     }
