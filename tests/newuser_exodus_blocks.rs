@@ -78,7 +78,7 @@ fn element_types_named_as_vtk_reads_them() {
 #[test]
 fn a_block_without_connectivity_is_refused() {
     let dir = tempdir();
-    let input = fixture("newuser/exodus_no_connect.exo");
+    let input = fixture("newuser/bad/exodus_no_connect.exo");
     let out = dir.path().join("out.vtu");
     tetkit(["convert".as_ref(), input.as_os_str(), out.as_os_str()]).assert_failure(&[
         "exodus_no_connect.exo",
