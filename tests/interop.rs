@@ -110,7 +110,11 @@ fn vtk_limitation(
             if path.extension().is_some_and(|x| x == "vtk")
                 && path.to_string_lossy().contains("-ascii")
                 && has_non_finite(grid)
-                && (e.contains("nan") || e.contains("inf")) =>
+                // VTK names the token it stopped at, or, when a FIELD array's `nan` ends its
+                // read early, only that its ASCII data did not parse.
+                && (e.contains("nan")
+                    || e.contains("inf")
+                    || e.contains("Error reading ascii data")) =>
         {
             Some(format!(
                 "VTK 9.1 cannot parse nan/inf in ASCII legacy {}",

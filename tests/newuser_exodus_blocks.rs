@@ -11,7 +11,7 @@
 //! read block params"); tetkit now refuses it naming the block, and writes nothing.
 //!
 //! Element attributes (`attrib{k}`: a beam's area, a sphere's radius) were dropped without a
-//! word; they are still not read, but a warning names them.
+//! word; they are now read as cell arrays, as VTK reads them (tests/newuser_exodus_vectors.rs).
 
 mod common;
 
@@ -24,14 +24,7 @@ fn element_types_named_as_vtk_reads_them() {
     let dir = tempdir();
     let input = fixture("newuser/exodus_vtk_names.exo");
     let out = dir.path().join("out.vtu");
-    let run = tetkit(["convert".as_ref(), input.as_os_str(), out.as_os_str()]);
-    run.assert_success();
-    // The beam block's attribute is not read, and the user is told so.
-    let (_, _, stderr) = run.parts();
-    assert!(
-        stderr.contains("element attributes skipped: attrib7"),
-        "{stderr}"
-    );
+    tetkit(["convert".as_ref(), input.as_os_str(), out.as_os_str()]).assert_success();
     let g = formats::read(&out).unwrap();
     assert_eq!(g.num_points(), 14);
     // Block order, as VTK's reader gives them: cell types 10, 12, 13, 14, 9, 5, 3.
@@ -59,6 +52,16 @@ fn element_types_named_as_vtk_reads_them() {
         stress.data.to_f64_vec(),
         [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
     );
+    // The beam block's cross-section area, an element attribute, as VTK reads it: a cell array
+    // named from attrib_name7, NaN in the blocks without it.
+    let area = g
+        .cell_data
+        .get("area")
+        .expect("element attribute")
+        .data
+        .to_f64_vec();
+    assert!(area[..6].iter().all(|x| x.is_nan()), "{area:?}");
+    assert_eq!(area[6], 0.25);
     let temp = g.point_data.get("temp").expect("nodal variable");
     assert_eq!(temp.data.get_f64(13), 13.0);
 
@@ -75,7 +78,7 @@ fn element_types_named_as_vtk_reads_them() {
 #[test]
 fn a_block_without_connectivity_is_refused() {
     let dir = tempdir();
-    let input = fixture("newuser/exodus_no_connect.exo");
+    let input = fixture("newuser/bad/exodus_no_connect.exo");
     let out = dir.path().join("out.vtu");
     tetkit(["convert".as_ref(), input.as_os_str(), out.as_os_str()]).assert_failure(&[
         "exodus_no_connect.exo",

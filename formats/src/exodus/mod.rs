@@ -2,6 +2,7 @@
 //! parsed here (netcdf.rs); NetCDF-4 (HDF5, as meshio and SEACAS's netCDF-4 output write it) is
 //! read through the pure-Rust `netcdf-reader` crate (nc4.rs); both answer read.rs alike.
 
+mod glom;
 mod nc4;
 pub(crate) use nc4::is_hdf5;
 mod netcdf;
@@ -62,14 +63,28 @@ pub fn times(path: &Path) -> Result<Vec<f64>> {
 /// their stored precision. Cells are the element blocks' elements, block by block as VTK's
 /// reader numbers them, with Exodus's node order mapped to VTK's (HEX20, HEX27 and WEDGE15
 /// differ). Cell arrays: `ObjectId` (Int32 block id), `GlobalElementId` (Int64, from
-/// `elem_num_map`, or 1, 2, ... as Exodus numbers elements without one) and the element variables of step `sel` (NaN in blocks the truth table leaves
-/// out); point arrays: `GlobalNodeId` (Int64, from `node_num_map` or 1, 2, ...), the nodal variables of the
-/// step and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times, NaN where a step has none; only in a file with steps),
-/// `exodus:block_names`, and each global variable over all steps. Side sets, element attributes
-/// (`attrib{k}`) and node and side set variables are skipped with a warning; QA and info records are skipped. NetCDF-4 (HDF5) files, also behind a user block of
-/// 512, 1024, ... bytes, read exactly as their classic copies do: chunked, compressed (deflate,
-/// shuffle), NC_STRING names and 64-bit integers alike; an HDF5 file that is not Exodus II is
-/// refused naming what it lacks.
+/// `elem_num_map`, or 1, 2, ... as Exodus numbers elements without one), the element variables
+/// of step `sel` (NaN in blocks the truth table leaves out) and the element attributes
+/// (`attrib{k}`, one array per `attrib_name{k}`, NaN in blocks without it); point arrays:
+/// `GlobalNodeId` (Int64, from `node_num_map` or 1, 2, ...), the nodal variables of the step
+/// and `nodeset:NAME` (UInt8) for each node set. Field data: `exodus:time` (all times, NaN
+/// where a step has none; only in a file with steps), `exodus:block_names`, and each global
+/// variable over all steps.
+///
+/// Nodal, element and global variables are joined into multi-component arrays as VTK 9.1's
+/// vtkExodusIIReader joins them: consecutive variables with one prefix and the suffixes `x y`,
+/// `x y z`, `R Z` (any case), the symmetric tensor `XX YY ZZ XY XZ YZ`, the 20-component third-rank
+/// one, or integration points `VAR_CELL_GPnnn` filling their box, become one array named by the
+/// prefix (`DISPLX DISPLY DISPLZ` is `DISPL`, `vel_x vel_y vel_z` is `vel_`), its components
+/// named by the variables; a name already taken gets `_` appended. In a 2-D mesh a nodal or
+/// element array of 2 components gets a third, 0, as in VTK. A component a block lacks is NaN
+/// there. Values keep the stored type (Float32 or Float64; global variables Float64).
+///
+/// Side sets and node and side set variables are skipped with a warning; QA and info records
+/// are skipped. NetCDF-4 (HDF5) files, also behind a user block of 512, 1024, ... bytes, read
+/// exactly as their classic copies do: chunked, compressed (deflate, shuffle), NC_STRING names
+/// and 64-bit integers alike; an HDF5 file that is not Exodus II is refused naming what it
+/// lacks.
 pub fn read_from(bytes: &[u8], path: &Path, sel: Selector) -> Result<Grid> {
     read::read(bytes, path, sel)
 }

@@ -1,5 +1,6 @@
 //! The Exodus II data model read from a NetCDF file, classic or NetCDF-4, into a [`Grid`].
 
+use super::glom::glom;
 use super::nc4::{is_hdf5, Nc4};
 use super::netcdf::{File, NcType, Source};
 use super::types::cell_kind;
@@ -78,7 +79,7 @@ fn read_source<S: Source>(f: &S, sel: Selector) -> Result<Grid> {
             names.join(", ")
         ));
     }
-    skipped_data(f, blocks.len());
+    skipped_data(f);
     if steps > 0 {
         // NaN for steps without a time (no `time_whole`): the array is there exactly when the
         // file has steps, so `tetkit info` lists them without reading the file again.
@@ -91,6 +92,7 @@ fn read_source<S: Source>(f: &S, sel: Selector) -> Result<Grid> {
         element_vars(f, step, &blocks, &mut g)?;
         global_vars(f, &mut g)?;
     }
+    attributes(f, &blocks, &mut g)?;
     // After the variables: VTK's writer also stores the id arrays as variables of the same
     // name, and the maps win, as in VTK's reader.
     let map = id_map(f, "elem_num_map", n_cells)?;
@@ -102,21 +104,9 @@ fn read_source<S: Source>(f: &S, sel: Selector) -> Result<Grid> {
     Ok(g)
 }
 
-/// Warns of the data the reader leaves out that a user would miss: element attributes
-/// (`attrib{k}`, such as sphere radii or shell thicknesses) and node set and side set variables;
-/// none of them becomes an array, and they went unmentioned.
-fn skipped_data<S: Source>(f: &S, n_blocks: usize) {
-    let attrs: Vec<String> = (1..=n_blocks)
-        .map(|k| format!("attrib{k}"))
-        .filter(|v| f.var(v).is_some())
-        .collect();
-    if !attrs.is_empty() {
-        warn(&format!(
-            "{}: element attributes skipped: {}",
-            f.path().display(),
-            attrs.join(", ")
-        ));
-    }
+/// Warns of the data the reader leaves out that a user would miss: node set and side set
+/// variables, which become no array and went unmentioned.
+fn skipped_data<S: Source>(f: &S) {
     for (count, what) in [
         ("num_nset_var", "node set variables"),
         ("num_sset_var", "side set variables"),
@@ -431,6 +421,52 @@ fn typed(float32: bool, values: Vec<f64>) -> ArrayData {
     }
 }
 
+/// One variable's values over the mesh's nodes or cells, and whether the file stores it as
+/// Float32; `None` where the file has no values for it.
+type Column = Option<(Vec<f64>, bool)>;
+
+/// The arrays of the variables `names` (their values in `columns`, `n` each) joined as VTK's
+/// reader joins them (see [`glom`]): components in the variables' order, named by the
+/// variables they came from; NaN for a component without values. With `pad` (a 2-D mesh's
+/// nodal and element variables) a 2-component array gets a third, 0, as VTK gives it.
+fn joined(
+    names: &[String],
+    columns: Vec<Column>,
+    n: usize,
+    pad: bool,
+    joins: impl Fn(usize) -> bool,
+) -> Vec<DataArray> {
+    let mut out = Vec::new();
+    for g in glom(names, joins) {
+        let parts: Vec<&Column> = g.members.iter().map(|&k| &columns[k]).collect();
+        if parts.iter().all(|c| c.is_none()) {
+            continue;
+        }
+        let float32 = parts.iter().copied().flatten().all(|(_, f)| *f);
+        let c = if pad && parts.len() == 2 {
+            3
+        } else {
+            parts.len()
+        };
+        let mut values = Vec::with_capacity(n * c);
+        for i in 0..n {
+            for k in 0..c {
+                values.push(match parts.get(k) {
+                    Some(Some((v, _))) => v[i],
+                    Some(None) => f64::NAN,
+                    None => 0.0,
+                });
+            }
+        }
+        let mut a = DataArray::new(g.name, c, typed(float32, values));
+        if c > 1 && c == parts.len() {
+            a.component_names = g.members.iter().map(|&k| names[k].clone()).collect();
+        }
+        out.push(a);
+    }
+    out
+}
+
 fn nodal_vars<S: Source>(f: &S, step: u64, n_points: usize, g: &mut Grid) -> Result<()> {
     let n = dim(f, "num_nod_var") as usize;
     if n == 0 {
@@ -444,8 +480,9 @@ fn nodal_vars<S: Source>(f: &S, step: u64, n_points: usize, g: &mut Grid) -> Res
         Some(v) => Some(f.values(v, step)?),
         None => None,
     };
-    for (k, name) in names.into_iter().enumerate() {
-        let (values, float32) = match (&old_values, old) {
+    let mut columns: Vec<Column> = Vec::with_capacity(n);
+    for (k, name) in names.iter().enumerate() {
+        columns.push(match (&old_values, old) {
             (Some(all), Some(v)) => {
                 let part = all.get(k * n_points..(k + 1) * n_points).ok_or_else(|| {
                     f.err_var(
@@ -453,28 +490,33 @@ fn nodal_vars<S: Source>(f: &S, step: u64, n_points: usize, g: &mut Grid) -> Res
                         format!("holds too few values for nodal variable {}", k + 1),
                     )
                 })?;
-                (part.to_vec(), f.ty(v) == Some(NcType::Float))
+                Some((part.to_vec(), f.ty(v) == Some(NcType::Float)))
             }
-            _ => {
-                let Some(v) = f.var(&format!("vals_nod_var{}", k + 1)) else {
-                    warn(&format!(
-                        "{}: nodal variable '{name}' has no values (vals_nod_var{}); skipped",
-                        f.path().display(),
-                        k + 1
-                    ));
-                    continue;
-                };
-                let values: Vec<f64> = f.values(v, step)?;
-                if values.len() != n_points {
-                    return Err(
-                        f.err_var(v, format!("{} values for {n_points} nodes", values.len()))
-                    );
+            _ => match f.var(&format!("vals_nod_var{}", k + 1)) {
+                Some(v) => {
+                    let values: Vec<f64> = f.values(v, step)?;
+                    if values.len() != n_points {
+                        return Err(
+                            f.err_var(v, format!("{} values for {n_points} nodes", values.len()))
+                        );
+                    }
+                    Some((values, f.ty(v) == Some(NcType::Float)))
                 }
-                (values, f.ty(v) == Some(NcType::Float))
-            }
-        };
-        g.point_data
-            .insert(DataArray::new(name, 1, typed(float32, values)));
+                None => {
+                    warn(&format!(
+                        "{}: nodal variable '{name}' has no values (vals_nod_var{}); {}",
+                        f.path().display(),
+                        k + 1,
+                        "skipped, or NaN in the array it joins"
+                    ));
+                    None
+                }
+            },
+        });
+    }
+    let pad = dim(f, "num_dim") == 2;
+    for a in joined(&names, columns, n_points, pad, |_| true) {
+        g.point_data.insert(a);
     }
     Ok(())
 }
@@ -504,14 +546,15 @@ fn element_vars<S: Source>(f: &S, step: u64, blocks: &[Block], g: &mut Grid) -> 
         }
         None => None,
     };
+    let held = |b: usize, k: usize| table.as_ref().map_or(true, |t| t[b * n + k] != 0);
     let total: usize = blocks.iter().map(|b| b.cells).sum();
-    for (k, name) in names.into_iter().enumerate() {
+    let mut columns: Vec<Column> = Vec::with_capacity(n);
+    for k in 0..n {
         let mut values = Vec::with_capacity(total);
         let mut float32 = true;
         for (b, block) in blocks.iter().enumerate() {
-            let held = table.as_ref().map_or(true, |t| t[b * n + k] != 0);
             let var = f.var(&format!("vals_elem_var{}eb{}", k + 1, b + 1));
-            match var.filter(|_| held && block.cells > 0) {
+            match var.filter(|_| held(b, k) && block.cells > 0) {
                 Some(v) => {
                     let vals: Vec<f64> = f.values(v, step)?;
                     if vals.len() != block.cells {
@@ -527,20 +570,90 @@ fn element_vars<S: Source>(f: &S, step: u64, blocks: &[Block], g: &mut Grid) -> 
                 None => values.extend(std::iter::repeat(f64::NAN).take(block.cells)),
             }
         }
+        columns.push(Some((values, float32)));
+    }
+    // VTK starts an array only at a variable some block holds; the other components follow
+    // whatever the truth table says of them, each NaN where its block lacks it (VTK reads the
+    // first component's blocks only, and fails on a block that lacks a later one).
+    let pad = dim(f, "num_dim") == 2;
+    let starts = |k: usize| (0..blocks.len()).any(|b| held(b, k));
+    for a in joined(&names, columns, total, pad, starts) {
+        g.cell_data.insert(a);
+    }
+    Ok(())
+}
+
+/// Element attributes (`attrib{k}`: a beam's area, a sphere's radius, a shell's thickness) as
+/// cell arrays named from `attrib_name{k}` (`attrib{j}` where unnamed), one per name and not
+/// joined, as VTK's reader gives them; NaN in blocks without the attribute. A name that an
+/// element variable already has gets `_` appended, so neither is lost.
+fn attributes<S: Source>(f: &S, blocks: &[Block], g: &mut Grid) -> Result<()> {
+    let total: usize = blocks.iter().map(|b| b.cells).sum();
+    let mut arrays: Vec<(String, Vec<f64>, bool)> = Vec::new();
+    let mut at = 0;
+    for (b, block) in blocks.iter().enumerate() {
+        let k = b + 1;
+        let var = f.var(&format!("attrib{k}")).filter(|_| block.cells > 0);
+        if let Some(v) = var {
+            let na = dim(f, &format!("num_att_in_blk{k}")) as usize;
+            let values: Vec<f64> = f.values(v, 0)?;
+            if values.len() != na * block.cells {
+                return Err(f.err_var(
+                    v,
+                    format!(
+                        "holds {} values, not {} elements x num_att_in_blk{k} = {na}",
+                        values.len(),
+                        block.cells
+                    ),
+                ));
+            }
+            // The count is bounded by the values just read, so no name row limit is needed.
+            let given = match f.var(&format!("attrib_name{k}")) {
+                Some(v) => f.strings(v)?,
+                None => Vec::new(),
+            };
+            let names = (0..na).map(|j| match given.get(j) {
+                Some(s) if !s.is_empty() => s.clone(),
+                _ => format!("attrib{}", j + 1),
+            });
+            let float32 = f.ty(v) == Some(NcType::Float);
+            for (j, name) in names.enumerate() {
+                let slot = match arrays.iter().position(|a| a.0 == name) {
+                    Some(s) => s,
+                    None => {
+                        arrays.push((name, vec![f64::NAN; total], true));
+                        arrays.len() - 1
+                    }
+                };
+                let (_, column, f32s) = &mut arrays[slot];
+                *f32s &= float32;
+                for (e, x) in column[at..at + block.cells].iter_mut().enumerate() {
+                    *x = values[e * na + j];
+                }
+            }
+        }
+        at += block.cells;
+    }
+    for (mut name, values, float32) in arrays {
+        while g.cell_data.get(&name).is_some() {
+            name.push('_');
+        }
         g.cell_data
             .insert(DataArray::new(name, 1, typed(float32, values)));
     }
     Ok(())
 }
 
-/// Global variables: one field array each, its value at every time step.
+/// Global variables: one field array each (joined as nodal ones are, never padded), its value
+/// at every time step.
 fn global_vars<S: Source>(f: &S, g: &mut Grid) -> Result<()> {
     let n = dim(f, "num_glo_var") as usize;
     let Some(v) = f.var("vals_glo_var").filter(|_| n > 0) else {
         return Ok(());
     };
     let names = var_names(f, "name_glo_var", n, "glo_var")?;
-    let mut columns = vec![Vec::with_capacity(f.numrecs().min(1 << 16) as usize); n];
+    let steps = f.numrecs() as usize;
+    let mut columns = vec![Vec::with_capacity(steps.min(1 << 16)); n];
     for step in 0..f.numrecs() {
         let row: Vec<f64> = f.values(v, step)?;
         if row.len() != n {
@@ -550,9 +663,9 @@ fn global_vars<S: Source>(f: &S, g: &mut Grid) -> Result<()> {
             c.push(x);
         }
     }
-    for (name, c) in names.into_iter().zip(columns) {
-        g.field_data
-            .push(DataArray::new(name, 1, ArrayData::Float64(c)));
-    }
+    // Float64 whatever the file stores, as before.
+    let columns = columns.into_iter().map(|c| Some((c, false))).collect();
+    g.field_data
+        .extend(joined(&names, columns, steps, false, |_| true));
     Ok(())
 }
