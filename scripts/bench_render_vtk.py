@@ -48,6 +48,14 @@ COOL_TO_WARM = [
 ]
 
 
+def write_legacy(ug, path):
+    w = vtk.vtkUnstructuredGridWriter()
+    w.SetFileTypeToBinary()
+    w.SetFileName(path)
+    w.SetInputData(ug)
+    w.Write()
+
+
 def make_mesh(target_tets, path):
     # vtkDataSetTriangleFilter cuts each voxel of image data into 5 tets.
     n = max(1, round((target_tets / 5.0) ** (1.0 / 3.0)))
@@ -68,11 +76,7 @@ def make_mesh(target_tets, path):
     tri.Update()
     ug = tri.GetOutput()
     ug.GetPointData().SetActiveScalars("scalar")
-    w = vtk.vtkUnstructuredGridWriter()
-    w.SetFileTypeToBinary()
-    w.SetFileName(path)
-    w.SetInputData(ug)
-    w.Write()
+    write_legacy(ug, path)
     return ug
 
 
@@ -103,11 +107,7 @@ def make_torus(max_volume, tmp, exe, path):
     arr.SetName("scalar")
     ug.GetPointData().AddArray(arr)
     ug.GetPointData().SetActiveScalars("scalar")
-    w = vtk.vtkUnstructuredGridWriter()
-    w.SetFileTypeToBinary()
-    w.SetFileName(path)
-    w.SetInputData(ug)
-    w.Write()
+    write_legacy(ug, path)
     diag = float(((hi - lo) ** 2).sum() ** 0.5)
     return ug, diag
 
