@@ -8,9 +8,9 @@ Then scripts/make_exodus_nc4_fixtures.sh makes their NetCDF-4 (HDF5) copies in f
 (with nccopy from netcdf-bin, needed only to regenerate them).
 """
 import os
-import struct
 import sys
 
+from netcdf_classic import Cdf, text
 import vtk
 from vtk.util import numpy_support as ns
 from vtk.util.vtkAlgorithm import VTKPythonAlgorithmBase
@@ -137,94 +137,6 @@ class TimeSource(VTKPythonAlgorithmBase):
         return 1
 
 
-class Cdf:
-    """A tiny classic NetCDF writer (CDF-1, or CDF-5 with 64-bit counts and offsets), for what
-    VTK's Exodus writer cannot write."""
-
-    TYPES = {"c": 2, "i": 4, "f": 5, "d": 6}
-
-    def __init__(self, version):
-        self.version = version
-        self.dims, self.vars, self.numrecs, self.global_attrs = [], [], 0, []
-
-    def n(self, x):
-        """A count: 4 bytes, 8 in CDF-5."""
-        return struct.pack(">q" if self.version == 5 else ">i", x)
-
-    def dim(self, name, n):
-        names = [d[0] for d in self.dims]
-        if name not in names:
-            self.dims.append((name, n))
-            names.append(name)
-        return names.index(name)
-
-    def var(self, name, dims, kind, values, attrs=()):
-        self.vars.append((name, [self.dim(*d) for d in dims], kind, values, list(attrs)))
-
-    @staticmethod
-    def pad(b):
-        return b + b"\0" * (-len(b) % 4)
-
-    def name(self, s):
-        return self.n(len(s)) + self.pad(s.encode())
-
-    def packed(self, kind, values):
-        if kind == "c":
-            return bytes(values)
-        return struct.pack(">%d%s" % (len(values), kind), *values)
-
-    def attrs(self, attrs):
-        if not attrs:
-            return b"\0" * 4 + self.n(0)
-        out = struct.pack(">i", 12) + self.n(len(attrs))
-        for n, kind, v in attrs:
-            out += self.name(n) + struct.pack(">i", self.TYPES[kind]) + self.n(len(v))
-            out += self.pad(self.packed(kind, v))
-        return out
-
-    def is_record(self, v):
-        return bool(v[1]) and self.dims[v[1][0]][1] == 0
-
-    def header(self, begins):
-        out = b"CDF" + bytes([self.version]) + self.n(self.numrecs)
-        out += struct.pack(">i", 10) + self.n(len(self.dims))
-        for n, l in self.dims:
-            out += self.name(n) + self.n(l)
-        out += self.attrs(self.global_attrs)
-        out += struct.pack(">i", 11) + self.n(len(self.vars))
-        for v, b in zip(self.vars, begins):
-            size = len(self.pad(self.packed(v[2], v[3])))
-            if self.is_record(v):
-                size //= max(self.numrecs, 1)
-            out += self.name(v[0]) + self.n(len(v[1]))
-            out += b"".join(self.n(d) for d in v[1])
-            out += self.attrs(v[4]) + struct.pack(">i", self.TYPES[v[2]]) + self.n(size)
-            out += struct.pack(">q" if self.version == 5 else ">i", b)
-        return out
-
-    def bytes(self):
-        at = len(self.header([0] * len(self.vars)))
-        begins, fixed, records = [], b"", []
-        for v in self.vars:
-            if self.is_record(v):
-                begins.append(None)
-                records.append(v)
-            else:
-                begins.append(at + len(fixed))
-                fixed += self.pad(self.packed(v[2], v[3]))
-        rec_at = at + len(fixed)
-        slabs = [len(self.packed(v[2], v[3])) // max(self.numrecs, 1) for v in records]
-        offset = 0
-        for v, n in zip(records, slabs):
-            begins[self.vars.index(v)] = rec_at + offset
-            offset += n + (-n % 4)
-        data = b""
-        for r in range(self.numrecs):
-            for v, n in zip(records, slabs):
-                data += self.pad(self.packed(v[2], v[3])[r * n:(r + 1) * n])
-        return self.header(begins) + fixed + data
-
-
 def hand_written(name, cdf):
     """A 27-node hexahedron and a 9-node quadrilateral (which VTK 9.1's writer cannot write),
     nodes placed in Exodus's order (corners, bottom edges, vertical edges, top edges, centre,
@@ -254,7 +166,6 @@ def hand_written(name, cdf):
     f.dim("num_nodes", n)
     f.dim("num_elem", 2)
     f.dim("num_el_blk", 2)
-    text = lambda rows: [b for r in rows for b in r.encode().ljust(33, b"\0")]
     f.var("time_whole", [t], "d", [0.0, 0.75])
     for k, axis in enumerate("xyz"):
         f.var("coord" + axis, [("num_nodes", n)], "d", [p[k] for p in pts])
