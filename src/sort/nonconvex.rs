@@ -188,16 +188,13 @@ impl LeafBoundary {
         let wide =
             |(x0, x1, y0, y1): (usize, usize, usize, usize)| (x1 - x0 + 1) * (y1 - y0 + 1) > 4 * g;
         let mut count = vec![0u32; g * g + 1];
-        let mut wide_exits = Vec::new();
         // Each exit's cell range, found once: the scan below compares cells as integers.
-        let exit_range: Vec<(usize, usize, usize, usize)> =
-            exits.iter().map(|&k| range(bx(k))).collect();
-        for (&k, &r) in exits.iter().zip(&exit_range) {
-            if wide(r) {
-                wide_exits.push(k);
-                continue;
-            }
-            let (x0, x1, y0, y1) = r;
+        let (wide_exits, binned): (Vec<_>, Vec<_>) = exits
+            .iter()
+            .map(|&k| (k, range(bx(k))))
+            .partition(|&(_, r)| wide(r));
+        let wide_exits: Vec<u32> = wide_exits.into_iter().map(|(k, _)| k).collect();
+        for &(_, (x0, x1, y0, y1)) in &binned {
             for y in y0..=y1 {
                 for x in x0..=x1 {
                     count[y * g + x + 1] += 1;
@@ -212,11 +209,7 @@ impl LeafBoundary {
         // candidate costs no look-up in `proj` and no division: one entry face meets dozens of
         // exits that the tests below reject.
         let mut bins = vec![Binned::default(); count[g * g] as usize];
-        for (&k, &r) in exits.iter().zip(&exit_range) {
-            if wide(r) {
-                continue;
-            }
-            let (x0, x1, y0, y1) = r;
+        for &(k, (x0, x1, y0, y1)) in &binned {
             let e = Binned {
                 k,
                 lo: [x0 as u32, y0 as u32],

@@ -82,7 +82,7 @@ impl ClipSetup {
     }
 
     /// The set-up of a tet whose vertices all project inside the guard band, but a face of
-    /// which is seen nearly edge-on (see `setup::snap_may_flip`): pixels decided by its exact
+    /// which is seen nearly edge-on (see `setup::snapped_sliver`): pixels decided by its exact
     /// silhouette. `None` when it draws nothing.
     pub(crate) fn exact(pv: [&Projected; 4], s: [f64; 4]) -> Option<ClipSetup> {
         let sil = Silhouette::new(&pv)?;

@@ -77,7 +77,7 @@ pub struct PtStats {
     /// per-pixel clipping path instead of the rasterizer.
     pub clipped: u64,
     /// Tets the rasterizer could take but the clipping path draws, since a face seen nearly
-    /// edge-on lies on a pixel centre (see `setup::snap_may_flip`); also counted in `class`.
+    /// edge-on lies on a pixel centre (see `setup::snapped_sliver`); also counted in `class`.
     pub per_pixel: u64,
     pub fragments: u64,
     /// Tets not set up because every pixel they could cover was already opaque (the tile

@@ -91,7 +91,7 @@ pub(crate) struct TetSetup {
 /// Linear functions through the three screen points of each of four faces (lane `i` is face
 /// `i`, point `j` at `(x[j][i], y[j][i])` with value `v[j][i]`): value at `(ox, oy)`, slopes,
 /// twice the signed area, whether the fit is usable (a non-degenerate, finite plane), and
-/// whether any face [`snap_may_flip`] (`d`: the faces' snapped areas), for
+/// whether any face [`snapped_sliver`] (`d`: the faces' snapped areas), for
 /// [`sliver_at_a_pixel`] to look closer. The lanes run the same operations side by
 /// side, so they compile to vector instructions.
 #[inline(always)]
@@ -106,7 +106,7 @@ fn plane_fits(
 ) -> ([[f64; 4]; 3], [f64; 4], [bool; 4], bool) {
     let (mut c, mut ax, mut ay) = ([0f64; 4], [0f64; 4], [0f64; 4]);
     let (mut det, mut ok) = ([0f64; 4], [false; 4]);
-    let mut flips = false;
+    let mut slivers = false;
     for i in 0..4 {
         let (e1x, e1y) = (x[1][i] - x[0][i], y[1][i] - y[0][i]);
         let (e2x, e2y) = (x[2][i] - x[0][i], y[2][i] - y[0][i]);
@@ -117,16 +117,16 @@ fn plane_fits(
         c[i] = v[0][i] + ax[i] * (ox - x[0][i]) + ay[i] * (oy - y[0][i]);
         det[i] = dt;
         let span = e1x.abs() + e1y.abs() + e2x.abs() + e2y.abs();
-        // An area within rounding of zero is a face seen exactly edge-on (see `flip_bound`):
+        // An area within rounding of zero is a face seen exactly edge-on (see `sliver_bound`):
         // a plane fitted to it is rounding, as steep as it is wrong.
         ok[i] = (dt.abs() > EDGE_ON * span * span)
             & dt.is_finite()
             & ax[i].is_finite()
             & ay[i].is_finite()
             & c[i].is_finite();
-        flips |= flip_bound(span, dt) | ((dt.abs() <= EDGE_ON * span * span) & (d[i] != 0));
+        slivers |= sliver_bound(span, dt) | ((dt.abs() <= EDGE_ON * span * span) & (d[i] != 0));
     }
-    ([c, ax, ay], det, ok, flips)
+    ([c, ax, ay], det, ok, slivers)
 }
 
 /// The true screen positions of the faces' corners, as [`plane_fits`] takes them: point `j` of
@@ -357,8 +357,8 @@ pub(crate) fn setup_tet_unless(
             fw[j][i] = wv[f[j]] - w0;
         }
     }
-    let (pl, area, fit, flips) = plane_fits(&fx, &fy, &fw, &d, ox, oy);
-    if flips && sliver_at_a_pixel(&fx, &fy, &area, &d, view) {
+    let (pl, area, fit, slivers) = plane_fits(&fx, &fy, &fw, &d, ox, oy);
+    if slivers && sliver_at_a_pixel(&fx, &fy, &area, &d, view) {
         return Some(SetUp::PerPixel);
     }
     // Per face: 0 unused, 1 front, 2 back.
@@ -453,14 +453,15 @@ pub(crate) fn setup_tet_unless(
 pub(crate) enum SetUp {
     /// A record for the rasterizer, and its pixel bounds (x0, y0, x1, y1), inclusive.
     Raster(PixelBox),
-    /// The per-pixel clipping path must draw it: see [`snap_may_flip`].
+    /// The per-pixel clipping path must draw it: see [`snapped_sliver`].
     PerPixel,
 }
 
-/// Whether face `i`'s projected orientation (twice its signed area `area[i]`, from the unsnapped
-/// corners `(x[j][i], y[j][i])`) could change sign, or vanish, on the fixed-point grid: each
-/// corner moves by at most half a fixed-point unit per axis there, which changes twice the area
-/// by at most the bound below. Such a face is seen nearly edge-on, so a ray close to its line
+/// Whether face `i` (twice its signed area `area[i]`, from the unsnapped corners
+/// `(x[j][i], y[j][i])`) is a sliver the fixed-point grid may misdraw: its orientation could
+/// change sign, or vanish, there, or it is within a few times that of doing so ([`SLIVER`]).
+/// Each corner moves by at most half a fixed-point unit per axis on the grid, which changes
+/// twice the area by at most `span / SUB + 2 / SUB^2`. Such a face is seen nearly edge-on, so a ray close to its line
 /// runs along it for a long way, and the snapped silhouettes may hand that ray to the tet on the
 /// face's other side, whose planes give it no chord (the chord was lost: a vertex on a pixel
 /// centre with a face 0.1 degrees off edge-on, `fixtures/newuser/vertex_ray.vtu`). An area
@@ -471,7 +472,7 @@ pub(crate) enum SetUp {
 /// sliver was covered by both tets that share the face, each drawing the whole stretch along it
 /// (an eye on a grid node: 35/255 too bright).
 #[inline(always)]
-fn snap_may_flip(
+fn snapped_sliver(
     x: &[[f64; 4]; 3],
     y: &[[f64; 4]; 3],
     area: &[f64; 4],
@@ -482,20 +483,20 @@ fn snap_may_flip(
         + (y[1][i] - y[0][i]).abs()
         + (x[2][i] - x[0][i]).abs()
         + (y[2][i] - y[0][i]).abs();
-    flip_bound(span, area[i]) || (area[i].abs() <= EDGE_ON * span * span && d[i] != 0)
+    sliver_bound(span, area[i]) || (area[i].abs() <= EDGE_ON * span * span && d[i] != 0)
 }
 
-/// [`snap_may_flip`] of a face whose edges from its first corner have the summed absolute
+/// [`snapped_sliver`] of a face whose edges from its first corner have the summed absolute
 /// components `span`, and twice its signed area `area`.
 #[inline(always)]
-fn flip_bound(span: f64, area: f64) -> bool {
+fn sliver_bound(span: f64, area: f64) -> bool {
     let u = 1.0 / SUB as f64;
     let bound = SLIVER * (span * u + 2.0 * u * u);
     (area.abs() > EDGE_ON * span * span) & (area.abs() <= bound)
 }
 
 /// How many times the largest change snapping can make to twice a face's area (see
-/// [`snap_may_flip`]) still marks the face as a sliver for the per-pixel path. Twice would catch
+/// [`snapped_sliver`]) still marks the face as a sliver for the per-pixel path. Twice would catch
 /// the faces whose orientation can flip, with room for rounding in the areas themselves; but a
 /// face that does not flip and is only a few fixed-point units thin on screen still has its
 /// chord rise from 0 to the tet's thickness across those few units, so a pixel centre that
@@ -506,12 +507,12 @@ fn flip_bound(span: f64, area: f64) -> bool {
 /// as many tets to the per-pixel path and made 200k-tet frames 7 % slower.
 const SLIVER: f64 = 4.0;
 
-/// Twice a face's projected area, over its squared span (see [`snap_may_flip`]), at or below
+/// Twice a face's projected area, over its squared span (see [`snapped_sliver`]), at or below
 /// which the face is seen exactly edge-on: the area is rounding (an eye in the face's plane, or
 /// an axis-aligned grid seen along an axis, gives a few 1e-17).
 const EDGE_ON: f64 = 1e-10;
 
-/// Whether a pixel centre of a `view` lies near a face that [`snap_may_flip`] picks: within the
+/// Whether a pixel centre of a `view` lies near a face that [`snapped_sliver`] picks: within the
 /// face's thickness plus two fixed-point units of its longest edge's line, along that edge.
 /// Elsewhere the snapped silhouettes lose at most the sliver between snapped and true edges,
 /// where the chord is small.
@@ -523,7 +524,7 @@ fn sliver_at_a_pixel(
     view: &View,
 ) -> bool {
     (0..4).any(|i| {
-        snap_may_flip(x, y, area, d, i)
+        snapped_sliver(x, y, area, d, i)
             && near_a_pixel_centre(
                 [0, 1, 2].map(|j| (x[j][i], y[j][i])),
                 area[i].abs(),
